@@ -1,0 +1,78 @@
+#pragma once
+// The three method bases that later work builds on. Each is a KernelShell (see
+// kernel_shell.hpp); the method defines a nested Kernel, make_kernel(KernelContext&) and
+// size() (the number of items), and the base provides exec(policy, dt).
+//
+//   UpdateDynamics<M>        Kernel::update(i, dt)             writes item i from item i
+//   InteractionDynamics<M>   Kernel::interaction(i, dt)        reads other items, writes item i only
+//                                                               (neighbour relations plug in here)
+//   ReduceDynamics<M, Op>    Kernel::reduce(i, dt) -> T         exec returns the Op-combination
+//                                                               (passed through M::finish(T) if M has one)
+
+#include <type_traits>
+
+#include "unisph/dynamics/kernel_shell.hpp"
+#include "unisph/exec/algorithms.hpp"
+
+namespace unisph {
+
+namespace detail {
+template <class Kernel>
+struct UpdateLaunch {
+  Kernel kernel;
+  Real dt;
+  UNISPH_HOST_DEVICE void operator()(Index i) const { kernel.update(i, dt); }
+};
+template <class Kernel>
+struct InteractionLaunch {
+  Kernel kernel;
+  Real dt;
+  UNISPH_HOST_DEVICE void operator()(Index i) const { kernel.interaction(i, dt); }
+};
+template <class Kernel>
+struct ReduceLaunch {
+  Kernel kernel;
+  Real dt;
+  UNISPH_HOST_DEVICE auto operator()(Index i) const { return kernel.reduce(i, dt); }
+};
+}  // namespace detail
+
+template <class Method>
+class UpdateDynamics : public KernelShell<Method> {
+ public:
+  template <ExecutionPolicy P>
+  void exec(P policy, Real dt = Real(0)) {
+    using Kernel = typename Method::Kernel;
+    const Kernel& k = this->kernel(policy);
+    particle_for(policy, static_cast<const Method&>(*this).size(), detail::UpdateLaunch<Kernel>{k, dt});
+  }
+};
+
+template <class Method>
+class InteractionDynamics : public KernelShell<Method> {
+ public:
+  template <ExecutionPolicy P>
+  void exec(P policy, Real dt = Real(0)) {
+    using Kernel = typename Method::Kernel;
+    const Kernel& k = this->kernel(policy);
+    particle_for(policy, static_cast<const Method&>(*this).size(), detail::InteractionLaunch<Kernel>{k, dt});
+  }
+};
+
+template <class Method, class Op>
+class ReduceDynamics : public KernelShell<Method> {
+ public:
+  template <ExecutionPolicy P>
+  auto exec(P policy, Real dt = Real(0)) {
+    using Kernel = typename Method::Kernel;
+    const Kernel& k = this->kernel(policy);
+    auto result = particle_reduce(policy, static_cast<const Method&>(*this).size(), Op{},
+                                  detail::ReduceLaunch<Kernel>{k, dt});
+    if constexpr (requires(Method& m) { m.finish(result); })
+      return static_cast<Method&>(*this).finish(result);
+    else
+      return result;
+  }
+};
+
+}  // namespace unisph

@@ -1,0 +1,101 @@
+#pragma once
+// The CUDA backend: kernels launched asynchronously on unisph's stream. Only the reduction
+// waits, because its result is a host value. Included by the front end only when nvcc compiles.
+
+#include <cuda_runtime.h>
+
+#include <cub/block/block_reduce.cuh>
+
+#include "unisph/exec/backend/backend.hpp"
+#include "unisph/exec/backend/cuda/primitives.hpp"
+#include "unisph/exec/backend/cuda/runtime.hpp"
+
+namespace unisph::backend {
+
+namespace cuda_detail {
+
+inline constexpr int block_size = 256;
+
+inline cudaStream_t stream() { return static_cast<cudaStream_t>(cuda::stream_handle()); }
+
+template <class F>
+__global__ void __launch_bounds__(block_size) particle_for_kernel(Index n, F f) {
+  const Index i = static_cast<Index>(blockIdx.x) * block_size + threadIdx.x;
+  if (i < n) f(i);
+}
+
+// First pass: each block reduces a grid-stride slice. Four independent items per trip keep
+// several loads in flight per thread (the reduction is bound by memory bandwidth).
+template <class T, class Op, class F>
+__global__ void __launch_bounds__(block_size) reduce_blocks(Index n, T identity, Op op, F f, T* partials) {
+  const Index stride = static_cast<Index>(gridDim.x) * block_size;
+  Index i = static_cast<Index>(blockIdx.x) * block_size + threadIdx.x;
+  T acc = identity;
+  for (; i + 3 * stride < n; i += 4 * stride) {
+    const T a = f(i), b = f(i + stride), c = f(i + 2 * stride), d = f(i + 3 * stride);
+    acc = op(acc, op(op(a, b), op(c, d)));
+  }
+  for (; i < n; i += stride) acc = op(acc, f(i));
+  using BlockReduce = cub::BlockReduce<T, block_size>;
+  __shared__ typename BlockReduce::TempStorage storage;
+  const T block_total = BlockReduce(storage).Reduce(acc, op);
+  if (threadIdx.x == 0) partials[blockIdx.x] = block_total;
+}
+
+// Second pass: one block combines the partials in a fixed order (deterministic results).
+template <class T, class Op>
+__global__ void __launch_bounds__(block_size) reduce_partials(int count, T identity, Op op, const T* partials, T* result) {
+  T acc = identity;
+  for (int i = threadIdx.x; i < count; i += block_size) acc = op(acc, partials[i]);
+  using BlockReduce = cub::BlockReduce<T, block_size>;
+  __shared__ typename BlockReduce::TempStorage storage;
+  const T total = BlockReduce(storage).Reduce(acc, op);
+  if (threadIdx.x == 0) *result = total;
+}
+
+}  // namespace cuda_detail
+
+template <>
+struct Backend<ParallelDevicePolicy> {
+  template <class F>
+  static void particle_for(Index n, const F& f) {
+    cuda::require_device();
+    if (n == 0) return;
+    const Index blocks = (n + cuda_detail::block_size - 1) / cuda_detail::block_size;
+    cuda_detail::particle_for_kernel<<<static_cast<unsigned>(blocks), cuda_detail::block_size, 0, cuda_detail::stream()>>>(n, f);
+    cuda::check_launch("particle_for", n);
+  }
+
+  template <class T, class Op, class F>
+  static T particle_reduce(Index n, T identity, const Op& op, const F& f) {
+    cuda::require_device();
+    if (n == 0) return identity;
+    // One full wave of resident blocks (8 blocks of 256 threads fill an SM's 2048 threads).
+    const Index wave = static_cast<Index>(cuda::multiprocessor_count()) * 8;
+    const Index needed = (n + cuda_detail::block_size - 1) / cuda_detail::block_size;
+    const int blocks = static_cast<int>(needed < wave ? needed : wave);
+    T* partials = static_cast<T*>(cuda::scratch(sizeof(T) * (blocks + 1), "particle_reduce"));
+    T* result = partials + blocks;
+    cuda_detail::reduce_blocks<<<blocks, cuda_detail::block_size, 0, cuda_detail::stream()>>>(n, identity, op, f, partials);
+    cuda::check_launch("particle_reduce", n);
+    cuda_detail::reduce_partials<<<1, cuda_detail::block_size, 0, cuda_detail::stream()>>>(blocks, identity, op, partials, result);
+    cuda::check_launch("particle_reduce (final pass)", static_cast<Index>(blocks));
+    T value;
+    cuda::copy_to_host(&value, result, sizeof(T), "the result of particle_reduce");
+    return value;
+  }
+
+  template <class T>
+  static void exclusive_scan(const T* in, T* out, Index n, bool with_total) {
+    cuda::require_device();
+    cuda::exclusive_scan(in, out, n, with_total);
+  }
+
+  template <class K, class V>
+  static void sort_pairs(K* keys, V* values, Index n, int begin_bit, int end_bit) {
+    cuda::require_device();
+    cuda::sort_pairs(keys, values, n, begin_bit, end_bit);
+  }
+};
+
+}  // namespace unisph::backend

@@ -1,0 +1,53 @@
+#pragma once
+// Host-side services of the CUDA backend: device memory, copies, the stream every launch goes
+// to, and scratch storage for the algorithms. Declared here without CUDA headers so that
+// code compiled by the host compiler (variables, the program) can call them; implemented in
+// src/cuda/runtime.cpp. In a build without CUDA every call throws PolicyUnavailable.
+//
+// Every failure becomes a DeviceError whose message names the operation, what it served
+// (a variable's name, an algorithm) and the size, then CUDA's own words.
+
+#include <cstddef>
+#include <string_view>
+
+namespace unisph {
+struct ExecutionInfo;
+}
+
+namespace unisph::cuda {
+
+// Fills the device fields of `info` (built, present, name, reason when absent). Never throws.
+void describe_device(ExecutionInfo& info);
+
+// Throws PolicyUnavailable (with the reason) unless the CUDA backend is built and a GPU is present.
+void require_device();
+
+// cudaStream_t of the stream every unisph launch and copy goes to (created on first use).
+void* stream_handle();
+
+int multiprocessor_count();
+
+void* allocate(std::size_t bytes, std::string_view what);
+void deallocate(void* ptr) noexcept;
+
+// Host -> device. Asynchronous with respect to the host where CUDA allows it.
+void copy_to_device(void* dst, const void* src, std::size_t bytes, std::string_view what);
+// Device -> host. Returns when the data has arrived (it waits for earlier work on the stream).
+void copy_to_host(void* dst, const void* src, std::size_t bytes, std::string_view what);
+// Device -> device, asynchronous.
+void copy_on_device(void* dst, const void* src, std::size_t bytes, std::string_view what);
+void fill_zero(void* dst, std::size_t bytes, std::string_view what);
+// Waits for every launch and copy issued so far.
+void synchronize(std::string_view what);
+
+// Grow-only device storage for temporary buffers of the algorithms (CUB temporaries, reduction
+// partials, sort double buffers). Valid until the next call to scratch(); stream order keeps
+// one algorithm's use from overlapping the next one's.
+void* scratch(std::size_t bytes, std::string_view what);
+
+// Throws DeviceError for a failed CUDA call: "<what>: <CUDA error name>: <description>".
+void check(int cuda_error_code, std::string_view what);
+// Checks the launch that just happened (cudaGetLastError, no waiting).
+void check_launch(std::string_view what, std::size_t items);
+
+}  // namespace unisph::cuda

@@ -1,0 +1,184 @@
+// The CUDA backend's host services (see include/unisph/exec/backend/cuda/runtime.hpp).
+// Compiled as CUDA when the backend is built; otherwise every entry point reports that the
+// device is not available.
+
+#include "unisph/exec/backend/cuda/runtime.hpp"
+
+#include <mutex>
+#include <string>
+
+#include "unisph/core/error.hpp"
+#include "unisph/exec/policy.hpp"
+
+#if UNISPH_HAS_CUDA
+#include <cuda_runtime.h>
+#endif
+
+namespace unisph::cuda {
+
+namespace {
+std::string bytes_text(std::size_t bytes) {
+  return std::to_string(bytes) + " bytes";
+}
+}  // namespace
+
+void require_device() {
+  static const bool ok = policy_available(PolicyKind::device);
+  if (!ok) require_policy(PolicyKind::device);  // throws with the reason
+}
+
+#if UNISPH_HAS_CUDA
+
+void describe_device(ExecutionInfo& info) {
+  info.cuda_built = true;
+  int count = 0;
+  const cudaError_t err = cudaGetDeviceCount(&count);
+  if (err != cudaSuccess || count == 0) {
+    cudaGetLastError();
+    info.device_present = false;
+    info.device_unavailable_reason =
+        err != cudaSuccess ? std::string("no usable CUDA GPU: ") + cudaGetErrorString(err) : "no CUDA GPU on this machine";
+    return;
+  }
+  cudaDeviceProp prop{};
+  if (cudaGetDeviceProperties(&prop, 0) != cudaSuccess) {
+    cudaGetLastError();
+    info.device_unavailable_reason = "the CUDA GPU could not be queried";
+    return;
+  }
+  info.device_present = true;
+  info.device_name = prop.name;
+  info.device_multiprocessors = prop.multiProcessorCount;
+  info.device_memory_gib = static_cast<double>(prop.totalGlobalMem) / (1024.0 * 1024.0 * 1024.0);
+  if (prop.major < 7) {
+    info.device_present = false;
+    info.device_unavailable_reason = std::string("the GPU ") + prop.name + " (compute capability " +
+                                     std::to_string(prop.major) + "." + std::to_string(prop.minor) +
+                                     ") is older than this build supports";
+  }
+}
+
+void check(int code, std::string_view what) {
+  if (code == cudaSuccess) return;
+  const auto err = static_cast<cudaError_t>(code);
+  throw DeviceError(std::string(what) + ": " + cudaGetErrorName(err) + ": " + cudaGetErrorString(err));
+}
+
+void check_launch(std::string_view what, std::size_t items) {
+  const cudaError_t err = cudaGetLastError();
+  if (err != cudaSuccess)
+    check(err, "launch of " + std::string(what) + " over " + std::to_string(items) + " items");
+}
+
+void* stream_handle() {
+  static cudaStream_t stream = [] {
+    require_device();
+    cudaStream_t s{};
+    // Non-blocking: unisph's work does not serialise with the legacy default stream of other libraries.
+    check(cudaStreamCreateWithFlags(&s, cudaStreamNonBlocking), "creating the unisph CUDA stream");
+    return s;
+  }();
+  return stream;
+}
+
+static cudaStream_t stream() { return static_cast<cudaStream_t>(stream_handle()); }
+
+int multiprocessor_count() {
+  static const int count = [] {
+    require_device();
+    int device = 0, sms = 0;
+    check(cudaGetDevice(&device), "cudaGetDevice");
+    check(cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, device), "reading the multiprocessor count");
+    return sms;
+  }();
+  return count;
+}
+
+void* allocate(std::size_t bytes, std::string_view what) {
+  require_device();
+  if (bytes == 0) return nullptr;
+  void* ptr = nullptr;
+  const cudaError_t err = cudaMalloc(&ptr, bytes);
+  if (err != cudaSuccess) {
+    cudaGetLastError();  // clear the sticky-free error so later calls are not blamed
+    check(err, "cudaMalloc of " + bytes_text(bytes) + " for " + std::string(what));
+  }
+  return ptr;
+}
+
+void deallocate(void* ptr) noexcept {
+  if (ptr) cudaFree(ptr);
+}
+
+void copy_to_device(void* dst, const void* src, std::size_t bytes, std::string_view what) {
+  if (bytes == 0) return;
+  check(cudaMemcpyAsync(dst, src, bytes, cudaMemcpyHostToDevice, stream()),
+        "copy of " + bytes_text(bytes) + " to the device for " + std::string(what));
+}
+
+void copy_to_host(void* dst, const void* src, std::size_t bytes, std::string_view what) {
+  if (bytes == 0) return;
+  const std::string label = "copy of " + bytes_text(bytes) + " to the host for " + std::string(what);
+  check(cudaMemcpyAsync(dst, src, bytes, cudaMemcpyDeviceToHost, stream()), label);
+  check(cudaStreamSynchronize(stream()), label);
+}
+
+void copy_on_device(void* dst, const void* src, std::size_t bytes, std::string_view what) {
+  if (bytes == 0) return;
+  check(cudaMemcpyAsync(dst, src, bytes, cudaMemcpyDeviceToDevice, stream()),
+        "device-to-device copy of " + bytes_text(bytes) + " for " + std::string(what));
+}
+
+void fill_zero(void* dst, std::size_t bytes, std::string_view what) {
+  if (bytes == 0) return;
+  check(cudaMemsetAsync(dst, 0, bytes, stream()), "zero fill of " + bytes_text(bytes) + " for " + std::string(what));
+}
+
+void synchronize(std::string_view what) { check(cudaStreamSynchronize(stream()), std::string(what)); }
+
+void* scratch(std::size_t bytes, std::string_view what) {
+  struct Scratch {
+    void* ptr = nullptr;
+    std::size_t bytes = 0;
+  };
+  static Scratch s;
+  static std::mutex mutex;
+  std::lock_guard lock(mutex);
+  if (bytes > s.bytes) {
+    // cudaFree waits for the device, so no queued work still uses the old buffer.
+    deallocate(s.ptr);
+    s.ptr = nullptr;
+    s.bytes = 0;
+    const std::size_t grown = bytes + bytes / 4;  // headroom against many small regrowths
+    s.ptr = allocate(grown, "scratch storage of " + std::string(what));
+    s.bytes = grown;
+  }
+  return s.ptr;
+}
+
+#else  // no CUDA backend in this build
+
+void describe_device(ExecutionInfo& info) {
+  info.cuda_built = false;
+  info.device_present = false;
+  info.device_unavailable_reason =
+      "this unisph was built without the CUDA backend (configure with -DUNISPH_ENABLE_CUDA=ON on a machine with nvcc)";
+}
+
+[[noreturn]] static void unavailable() { require_policy(PolicyKind::device); throw PolicyUnavailable("device"); }
+void check(int, std::string_view) {}
+void check_launch(std::string_view, std::size_t) {}
+void* stream_handle() { unavailable(); }
+int multiprocessor_count() { unavailable(); }
+void* allocate(std::size_t, std::string_view) { unavailable(); }
+void deallocate(void*) noexcept {}
+void copy_to_device(void*, const void*, std::size_t, std::string_view) { unavailable(); }
+void copy_to_host(void*, const void*, std::size_t, std::string_view) { unavailable(); }
+void copy_on_device(void*, const void*, std::size_t, std::string_view) { unavailable(); }
+void fill_zero(void*, std::size_t, std::string_view) { unavailable(); }
+void synchronize(std::string_view) {}
+void* scratch(std::size_t, std::string_view) { unavailable(); }
+
+#endif
+
+}  // namespace unisph::cuda

@@ -1,0 +1,45 @@
+#pragma once
+// Every test is written once as a typed test over the policies this build has; the names
+// the test instances get (seq, par, gpu) are the ctest labels (tests/CMakeLists.txt filters
+// on them). Device tests skip with a message where no GPU is present.
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "unisph/exec/policy.hpp"
+
+namespace unisph::testing {
+
+#if UNISPH_HAS_CUDA
+using Policies = ::testing::Types<SequencedPolicy, ParallelPolicy, ParallelDevicePolicy>;
+#else
+using Policies = ::testing::Types<SequencedPolicy, ParallelPolicy>;
+#endif
+
+struct PolicyNames {
+  template <class P>
+  static std::string GetName(int) {
+    return std::string(P::test_label);
+  }
+};
+
+template <class P>
+class PolicyTest : public ::testing::Test {
+ protected:
+  static constexpr P policy{};
+  void SetUp() override {
+    if constexpr (P::space == MemorySpace::device) {
+      if (!policy_available(PolicyKind::device))
+        GTEST_SKIP() << "GPU test skipped: " << execution_info().device_unavailable_reason;
+    }
+  }
+};
+
+}  // namespace unisph::testing
+
+// Declares a typed test suite over every built policy, named Suite/seq, Suite/par, Suite/gpu.
+#define UNISPH_POLICY_TEST_SUITE(Suite)                  \
+  template <class P>                                     \
+  class Suite : public ::unisph::testing::PolicyTest<P> {}; \
+  TYPED_TEST_SUITE(Suite, ::unisph::testing::Policies, ::unisph::testing::PolicyNames)
