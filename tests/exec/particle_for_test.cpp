@@ -1,6 +1,5 @@
 // particle_for: every item visited exactly once, on every policy, at awkward sizes.
 #include <cstdint>
-#include <vector>
 
 #include "support/policy_test.hpp"
 #include "unisph/exec/algorithms.hpp"
@@ -38,11 +37,5 @@ TYPED_TEST(ParticleFor, WritesEveryItemOnce) {
     EXPECT_EQ(wrong, 0u) << "n = " << n;
   }
 }
-
-struct NotCopyable {
-  std::vector<int> data;
-  void operator()(Index) const {}
-};
-static_assert(!std::is_trivially_copyable_v<NotCopyable>, "the algorithms refuse such kernels at compile time");
 
 }  // namespace

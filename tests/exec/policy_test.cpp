@@ -44,9 +44,11 @@ TEST(HostPolicy, QueryTellsWhatRunsHere) {
   }
 }
 
+#if !UNISPH_HAS_CUDA
 struct Nothing {
-  UNISPH_HOST_DEVICE void operator()(Index) const {}
+  void operator()(Index) const {}
 };
+#endif
 
 TEST(HostPolicy, VisitPolicyRunsTheChosenOneOrThrows) {
   EXPECT_EQ(visit_policy(PolicyKind::seq, [](auto p) { return std::string(decltype(p)::name); }), "seq");

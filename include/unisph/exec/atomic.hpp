@@ -35,6 +35,16 @@ UNISPH_DEVICE auto* as_cuda(T* p) {
     return p;
 }
 
+// atomicAdd has no signed 64-bit overload; two's complement makes the unsigned one identical.
+template <class T>
+UNISPH_DEVICE T device_fetch_add(T* address, T value) {
+  if constexpr (std::is_integral_v<T> && sizeof(T) == 8) {
+    return static_cast<T>(atomicAdd(reinterpret_cast<unsigned long long*>(address), static_cast<unsigned long long>(value)));
+  } else {
+    return atomicAdd(address, value);
+  }
+}
+
 template <class T, class Better>
 UNISPH_DEVICE T cas_loop(T* address, Better better, T value) {
   // Floating-point min/max have no hardware atomic: compare-and-swap on the bit pattern.
@@ -80,7 +90,7 @@ UNISPH_HOST_DEVICE T atomic_fetch_add(T* address, T value) {
   static_assert(detail::atomic_supported_v<T>,
                 "unisph atomics support int, unsigned, long long, unsigned long long, float and double.");
 #if defined(__CUDA_ARCH__)
-  return static_cast<T>(atomicAdd(detail::as_cuda(address), static_cast<std::remove_pointer_t<decltype(detail::as_cuda(address))>>(value)));
+  return detail::device_fetch_add(address, value);
 #else
   return std::atomic_ref<T>(*address).fetch_add(value, std::memory_order_relaxed);
 #endif
