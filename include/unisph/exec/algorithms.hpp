@@ -7,6 +7,7 @@
 //   exclusive_scan(policy, in, out)                    out[i] = in[0] + ... + in[i-1]; out may be in;
 //                                                      out.size() == n + 1 also writes the total to out[n]
 //   sort_pairs(policy, keys, values [, begin_bit, end_bit])   stable radix sort by unsigned 32/64-bit keys
+//   fence(policy)                                      waits until the policy's work so far is done
 //
 // Views passed to an algorithm must live in the policy's memory space; the overloads taking
 // variables do the coherence themselves. Device work is asynchronous on unisph's stream: only
@@ -53,6 +54,12 @@ using canonical_scan_t = std::conditional_t<
 template <class V>
 using sort_value_bits_t = std::conditional_t<sizeof(V) == 4, std::uint32_t, std::uint64_t>;
 }  // namespace detail
+
+// Waits for every launch and copy issued so far on the policy (host policies finish before returning).
+template <ExecutionPolicy P>
+void fence(P) {
+  if constexpr (P::space == MemorySpace::device) cuda::synchronize("fence(par_device)");
+}
 
 template <ExecutionPolicy P, class F>
 void particle_for(P, Index n, const F& kernel) {

@@ -1,0 +1,41 @@
+// unisph: particle and sparse-grid simulation on CPU threads and NVIDIA GPUs.
+#include <cstdio>
+#include <exception>
+
+#include "commands.hpp"
+#include "unisph/core/error.hpp"
+#include "unisph/exec/policy.hpp"
+
+namespace unisph::app {
+
+void add_execution_options(CLI::App& command, ExecutionOptions& options) {
+  command.add_option("--policy", options.policy, "where kernels run: seq (one CPU thread), par (all CPU threads), "
+                                                 "device (the CUDA GPU)")
+      ->check(CLI::IsMember({"seq", "par", "device"}))
+      ->capture_default_str();
+  command.add_option("--threads", options.threads, "CPU threads for the par policy (0: all)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str()
+      ->each([](const std::string& value) { set_host_threads(std::stoi(value)); });
+}
+
+}  // namespace unisph::app
+
+int main(int argc, char** argv) {
+  CLI::App app{"unisph: particle and sparse-grid simulation (SPH) on CPU threads and NVIDIA GPUs"};
+  app.require_subcommand(1);
+  unisph::app::add_info_command(app);
+  unisph::app::add_demo_command(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const unisph::Error& e) {
+    std::fprintf(stderr, "unisph: error: %s\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "unisph: error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
