@@ -16,18 +16,16 @@
 
 namespace unisph::cuda {
 
-namespace {
-std::string bytes_text(std::size_t bytes) {
-  return std::to_string(bytes) + " bytes";
-}
-}  // namespace
-
 void require_device() {
   static const bool ok = policy_available(PolicyKind::device);
   if (!ok) require_policy(PolicyKind::device);  // throws with the reason
 }
 
 #if UNISPH_HAS_CUDA
+
+namespace {
+std::string bytes_text(std::size_t bytes) { return std::to_string(bytes) + " bytes"; }
+}  // namespace
 
 void describe_device(ExecutionInfo& info) {
   info.cuda_built = true;
