@@ -13,5 +13,5 @@ configure_package_config_file(cmake/unisphConfig.cmake.in ${CMAKE_CURRENT_BINARY
 write_basic_package_version_file(${CMAKE_CURRENT_BINARY_DIR}/unisphConfigVersion.cmake
                                  COMPATIBILITY SameMinorVersion)
 install(FILES ${CMAKE_CURRENT_BINARY_DIR}/unisphConfig.cmake ${CMAKE_CURRENT_BINARY_DIR}/unisphConfigVersion.cmake
-              cmake/UnisphKernelSources.cmake
+              cmake/UnisphKernelSources.cmake cmake/UnisphCudaDialect.cmake
         DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/unisph)

@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# Set up, build and run every test this machine can run:
+#   1. the default preset (CUDA backend compiled where nvcc is found; GPU tests skip without a GPU)
+#   2. the asan preset (AddressSanitizer + UndefinedBehaviorSanitizer, CPU, single precision)
+#   3. install, and build + run a downstream project against the installed tree (find_package)
+# Prints the time of each stage.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+jobs=$(nproc)
+stage_start=$(date +%s)
+stage() {
+  local now
+  now=$(date +%s)
+  echo "=== [$(date +%T)] previous stage took $((now - stage_start)) s; now: $*"
+  stage_start=$now
+}
+
+stage "set-up"
+scripts/setup.sh
+
+stage "configure + build (default preset)"
+cmake --preset default
+cmake --build --preset default -j "$jobs"
+
+stage "tests (default preset)"
+ctest --preset default -j "$jobs"
+
+stage "configure + build (asan preset)"
+cmake --preset asan
+cmake --build --preset asan -j "$jobs"
+
+stage "tests (asan preset)"
+ctest --preset asan -j "$jobs"
+
+stage "install + downstream find_package(unisph) project"
+rm -rf build/default/install build/consumer
+cmake --install build/default --prefix build/default/install >/dev/null
+cmake -S tests/consumer -B build/consumer -G Ninja -DCMAKE_PREFIX_PATH="$PWD/build/default/install"
+cmake --build build/consumer
+build/consumer/consumer
+
+stage "done"
