@@ -17,6 +17,12 @@ Vec3 normalised(const Vec3& v) {
   const double length = norm(v);
   return length > 0.0 ? v / length : v;
 }
+// A pseudonormal summed from unit normals of total weight `weight`; where they (nearly) cancel,
+// as on a fold of two triangles back to back, its direction is noise: zero tells the query so.
+Vec3 pseudonormal_or_zero(const Vec3& sum, double weight) {
+  const double length = norm(sum);
+  return length > 1e-9 * weight ? sum / length : Vec3{};
+}
 Vec<Real, 3> to_real(const Vec3& v) { return {{Real(v[0]), Real(v[1]), Real(v[2])}}; }
 
 // Angle between u and v, accurate also near 0 and π.
@@ -34,7 +40,9 @@ TriangleMeshSearch::TriangleMeshSearch(const TriangleMesh& mesh, int leaf_size, 
   // edge pseudonormals as the sum of the unit normals of the triangles sharing the edge.
   std::vector<Vec3> area_normal(n), unit_normal(n);
   std::vector<Vec3> vertex_normal(v.size(), Vec3{});
+  std::vector<double> vertex_weight(v.size(), 0.0);
   std::unordered_map<std::uint64_t, Vec3> edge_normal;
+  std::unordered_map<std::uint64_t, double> edge_weight;
   edge_normal.reserve(3 * n);
   auto edge_key = [](std::uint32_t a, std::uint32_t b) {
     return (std::uint64_t(std::min(a, b)) << 32) | std::max(a, b);
@@ -45,8 +53,11 @@ TriangleMeshSearch::TriangleMeshSearch(const TriangleMesh& mesh, int leaf_size, 
     unit_normal[t] = normalised(area_normal[t]);
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t here = tri[k], next = tri[(k + 1) % 3], previous = tri[(k + 2) % 3];
-      vertex_normal[here] += angle_between(v[next] - v[here], v[previous] - v[here]) * unit_normal[t];
+      const double angle = angle_between(v[next] - v[here], v[previous] - v[here]);
+      vertex_normal[here] += angle * unit_normal[t];
+      vertex_weight[here] += angle;
       edge_normal[edge_key(here, next)] += unit_normal[t];
+      edge_weight[edge_key(here, next)] += 1.0;
     }
   }
 
@@ -67,8 +78,9 @@ TriangleMeshSearch::TriangleMeshSearch(const TriangleMesh& mesh, int leaf_size, 
     index[k] = t;
     for (int c = 0; c < 3; ++c) {
       corners[k].corner[c] = to_real(v[tri[c]]);
-      normals[k].vertex[c] = to_real(normalised(vertex_normal[tri[c]]));
-      normals[k].edge[c] = to_real(normalised(edge_normal[edge_key(tri[c], tri[(c + 1) % 3])]));
+      normals[k].vertex[c] = to_real(pseudonormal_or_zero(vertex_normal[tri[c]], vertex_weight[tri[c]]));
+      const std::uint64_t edge = edge_key(tri[c], tri[(c + 1) % 3]);
+      normals[k].edge[c] = to_real(pseudonormal_or_zero(edge_normal[edge], edge_weight[edge]));
     }
     normals[k].face = to_real(unit_normal[t]);
   }

@@ -106,8 +106,12 @@ struct TriangleMeshSearchView {
   }
 
   // +1 outside, -1 inside (by the pseudonormal); a point on the surface counts as outside.
+  // Where the pseudonormal vanishes (two triangles folded back to back, 180 degrees apart: the
+  // mesh stores a zero vector there) it decides nothing, and the winding number does.
   UNISPH_HOST_DEVICE int sign(const Vec<Real, 3>& p, const NearestTriangle& n) const {
-    return dot(p - n.point, pseudonormal(n)) >= Real(0) ? 1 : -1;
+    const Vec<Real, 3> normal = pseudonormal(n);
+    if (normal == Vec<Real, 3>{}) return winding_number(p) > Real(0.5) ? -1 : 1;
+    return dot(p - n.point, normal) >= Real(0) ? 1 : -1;
   }
 
   UNISPH_HOST_DEVICE Real signed_distance(const Vec<Real, 3>& p) const {
