@@ -1,0 +1,186 @@
+#pragma once
+// CellLinkedList<T, D>: particles grouped by cell in CSR form — offsets[c] .. offsets[c + 1]
+// are the positions in `particles` of the indices of the particles in cell c — built by
+//   count (one atomic per particle, which also gives the particle its slot in the cell)
+//   -> exclusive scan of the counts into offsets
+//   -> fill (each particle writes its index to offsets[cell] + slot)
+// with the same kernels on every policy. The slot comes from the counting atomic, so the
+// fill needs no second atomic; the order inside a cell is the order in which the atomics
+// happened (the sets are the same on every policy, the order within a cell may differ).
+//
+// Positions outside the box or with a NaN coordinate are never undefined behaviour: they are
+// counted (report()) and, as the caller chooses, either clamped into the border cell
+// (OutsideParticles::clamp: still found as neighbours where within the cutoff) or put in a
+// separate bucket after the last cell (OutsideParticles::flag: they neither find nor are
+// found as neighbours). A NaN coordinate never passes the cutoff test, wherever it is put.
+
+#include <cstdint>
+#include <limits>
+#include <string>
+
+#include "unisph/dynamics/kernel_context.hpp"
+#include "unisph/exec/algorithms.hpp"
+#include "unisph/exec/atomic.hpp"
+#include "unisph/memory/discrete_variable.hpp"
+#include "unisph/neighbor/search_grid.hpp"
+
+namespace unisph {
+
+enum class OutsideParticles { clamp, flag };
+
+// What the last build saw. out_of_box and non_finite count particles (one with both a NaN and
+// an out-of-box coordinate counts in both); flagged is the size of the separate bucket.
+struct CellListReport {
+  Index particles = 0;
+  Index out_of_box = 0;
+  Index non_finite = 0;
+  Index flagged = 0;
+};
+
+// What kernels hold: the grid and read-only views of the CSR arrays.
+template <class T, int D>
+struct CellListView {
+  SearchGrid<T, D> grid;
+  bool flag_outside;
+  View<const Vec<T, D>> positions;
+  View<const std::uint32_t> offsets;    // cell_count() + 2: the cells, the flagged bucket, the end
+  View<const std::uint32_t> particles;  // particle indices grouped by cell
+
+  UNISPH_HOST_DEVICE Index flagged_bucket() const { return offsets.size() - 2; }
+};
+
+namespace cell_list_detail {
+
+struct ZeroCounts {
+  View<std::uint32_t> counts;
+  View<unsigned long long> counters;
+  UNISPH_HOST_DEVICE void operator()(Index c) const {
+    counts[c] = 0;
+    if (c < counters.size()) counters[c] = 0;
+  }
+};
+
+template <class T, int D>
+struct CountParticles {
+  SearchGrid<T, D> grid;
+  bool flag_outside;
+  std::uint32_t flagged_bucket;
+  View<const Vec<T, D>> positions;
+  View<std::uint32_t> bucket_of;
+  View<std::uint32_t> slot_of;
+  View<std::uint32_t> counts;
+  View<unsigned long long> counters;  // out of box, non-finite, flagged
+
+  UNISPH_HOST_DEVICE void operator()(Index i) const {
+    const CellPlacement<D> p = grid.place(positions[i]);
+    std::uint32_t bucket = static_cast<std::uint32_t>(grid.linear_index(p.cell));
+    if (p.status != placement_inside) {
+      if (p.status & placement_out_of_box) atomic_add(&counters[0], 1ull);
+      if (p.status & placement_non_finite) atomic_add(&counters[1], 1ull);
+      if (flag_outside) {
+        bucket = flagged_bucket;
+        atomic_add(&counters[2], 1ull);
+      }
+    }
+    bucket_of[i] = bucket;
+    slot_of[i] = atomic_fetch_add(&counts[bucket], 1u);
+  }
+};
+
+struct FillCells {
+  View<const std::uint32_t> bucket_of;
+  View<const std::uint32_t> slot_of;
+  View<const std::uint32_t> offsets;
+  View<std::uint32_t> particles;
+  UNISPH_HOST_DEVICE void operator()(Index i) const {
+    particles[offsets[bucket_of[i]] + slot_of[i]] = static_cast<std::uint32_t>(i);
+  }
+};
+
+}  // namespace cell_list_detail
+
+template <class T, int D>
+class CellLinkedList {
+ public:
+  using Position = Vec<T, D>;
+
+  // A list over `positions` (all of them: owned particles and ghosts) in `box`, for
+  // neighbours closer than `cutoff`, with cells of `cell_size` (0: the cutoff).
+  CellLinkedList(DiscreteVariable<Position>& positions, const Box<T, D>& box, T cutoff,
+                 OutsideParticles outside = OutsideParticles::clamp, T cell_size = T(0))
+      : positions_(positions),
+        grid_(SearchGrid<T, D>::make(box, cutoff, cell_size)),
+        outside_(outside),
+        offsets_(positions.name() + ".CellOffsets", grid_.cell_count() + 2),
+        particles_(positions.name() + ".CellParticles"),
+        bucket_of_(positions.name() + ".CellOfParticle"),
+        slot_of_(positions.name() + ".SlotInCell"),
+        counters_(positions.name() + ".CellListCounters", 3) {}
+
+  const SearchGrid<T, D>& grid() const { return grid_; }
+  OutsideParticles outside_particles() const { return outside_; }
+  Index cell_count() const { return grid_.cell_count(); }
+  DiscreteVariable<Position>& positions() { return positions_; }
+  // The CSR arrays (for tests and for code that walks cells itself).
+  DiscreteVariable<std::uint32_t>& offsets() { return offsets_; }
+  DiscreteVariable<std::uint32_t>& particles() { return particles_; }
+  DiscreteVariable<std::uint32_t>& bucket_of_particle() { return bucket_of_; }
+
+  // Rebuilds the list from the current positions. Asynchronous on the device.
+  template <ExecutionPolicy P>
+  void build(P policy) {
+    const Index n = positions_.size();
+    if (n >= Index(std::numeric_limits<std::uint32_t>::max()))
+      throw Error("CellLinkedList: " + std::to_string(n) + " particles in " + positions_.describe() +
+                  "; cell lists index particles with 32 bits");
+    particles_.resize(n);
+    bucket_of_.resize(n);
+    slot_of_.resize(n);
+    const Index buckets = grid_.cell_count() + 1;
+    View<std::uint32_t> offsets = offsets_.write(policy);
+    View<unsigned long long> counters = counters_.write(policy);
+    particle_for(policy, buckets + 1, cell_list_detail::ZeroCounts{offsets, counters});
+    particle_for(policy, n,
+                 cell_list_detail::CountParticles<T, D>{grid_, outside_ == OutsideParticles::flag,
+                                                        static_cast<std::uint32_t>(grid_.cell_count()),
+                                                        positions_.read(policy), bucket_of_.write(policy),
+                                                        slot_of_.write(policy), offsets, counters});
+    exclusive_scan(policy, View<const std::uint32_t>(offsets.subview(0, buckets)), offsets);
+    particle_for(policy, n,
+                 cell_list_detail::FillCells{bucket_of_.read(policy), slot_of_.read(policy), offsets,
+                                             particles_.write(policy)});
+    built_count_ = n;
+  }
+
+  // The counts of the last build (waits for it on the device; copies three numbers).
+  CellListReport report() {
+    View<const unsigned long long> c = counters_.read(MemorySpace::host);
+    return {built_count_, static_cast<Index>(c[0]), static_cast<Index>(c[1]), static_cast<Index>(c[2])};
+  }
+
+  // The kernel-side view in a policy's memory space (the list must have been built there or
+  // will be copied there).
+  template <ExecutionPolicy P>
+  CellListView<T, D> view(P) {
+    return {grid_, outside_ == OutsideParticles::flag, positions_.read(P::space), offsets_.read(P::space),
+            particles_.read(P::space)};
+  }
+  // The same through a kernel shell's context, which records the variables it views.
+  CellListView<T, D> view(KernelContext& context) {
+    return {grid_, outside_ == OutsideParticles::flag, context.read(positions_), context.read(offsets_),
+            context.read(particles_)};
+  }
+
+ private:
+  DiscreteVariable<Position>& positions_;
+  SearchGrid<T, D> grid_;
+  OutsideParticles outside_;
+  DiscreteVariable<std::uint32_t> offsets_;
+  DiscreteVariable<std::uint32_t> particles_;
+  DiscreteVariable<std::uint32_t> bucket_of_;
+  DiscreteVariable<std::uint32_t> slot_of_;
+  DiscreteVariable<unsigned long long> counters_;
+  Index built_count_ = 0;
+};
+
+}  // namespace unisph

@@ -1,0 +1,90 @@
+#pragma once
+// ContactRelation<T, D>: the neighbours of one body's particles (the sources, e.g. fluid)
+// among another body's particles (the targets, e.g. a wall), found through the target's cell
+// linked list. Sources outside the target's box are clamped into its border cells for the
+// search, so they still find the targets within the cutoff; a source with a NaN coordinate
+// finds none.
+//
+//   ContactRelation<T, 3> fluid_wall(fluid.positions(), wall_cells);
+//   wall_cells.build(policy); fluid_wall.update(policy);
+//   fluid_wall.search(context).for_each_neighbor(i, ...)   // j indexes the wall's particles
+
+#include <string>
+
+#include "unisph/dynamics/kernel_context.hpp"
+#include "unisph/neighbor/search_method.hpp"
+#include "unisph/neighbor/stored_neighbor_lists.hpp"
+
+namespace unisph {
+
+template <class T, int D>
+class ContactRelation {
+ public:
+  ContactRelation(DiscreteVariable<Vec<T, D>>& sources, CellLinkedList<T, D>& targets,
+                  SearchMethod method = SearchMethod::automatic)
+      : sources_(sources),
+        targets_(targets),
+        method_(method),
+        lists_(sources.name() + ".ContactWith." + targets.positions().name()) {}
+
+  CellLinkedList<T, D>& target_cell_list() { return targets_; }
+  template <ExecutionPolicy P>
+  SearchMethod method(P policy) const { return resolve_search_method(method_, policy); }
+  void set_method(SearchMethod method) { method_ = method; }
+  // Sources are particles [0, source_count) of the source body; by default all of them.
+  void set_source_count(Index count) { source_count_ = count; }
+  Index source_count() const { return source_count_ == unset ? sources_.size() : source_count_; }
+
+  // Call after the target cell list was built and before the kernels that use search().
+  template <ExecutionPolicy P>
+  void update(P policy) {
+    if (method(policy) == SearchMethod::stored) lists_.build(policy, direct_search(policy), source_count());
+  }
+
+  template <ExecutionPolicy P>
+  NeighborSearch<T, D> search(P policy) {
+    NeighborSearch<T, D> s = direct_search(policy);
+    if (method(policy) == SearchMethod::stored) {
+      check_lists();
+      s.list_offsets = lists_.offsets().read(P::space);
+      s.list_neighbors = lists_.neighbors().read(P::space);
+    }
+    return s;
+  }
+  NeighborSearch<T, D> search(KernelContext& context) {
+    NeighborSearch<T, D> s{context.read(sources_), targets_.view(context), false, {}, {}};
+    const bool stored = context.space() == MemorySpace::device
+                            ? method(ParallelDevicePolicy{}) == SearchMethod::stored
+                            : method(ParallelPolicy{}) == SearchMethod::stored;
+    if (stored) {
+      check_lists();
+      s.list_offsets = context.read(lists_.offsets());
+      s.list_neighbors = context.read(lists_.neighbors());
+    }
+    return s;
+  }
+
+  StoredNeighborLists<T, D>& stored_lists() { return lists_; }
+
+ private:
+  static constexpr Index unset = ~Index(0);
+
+  template <ExecutionPolicy P>
+  NeighborSearch<T, D> direct_search(P policy) {
+    return {sources_.read(policy), targets_.view(policy), false, {}, {}};
+  }
+  void check_lists() {
+    if (lists_.offsets().size() != source_count() + 1)
+      throw Error("ContactRelation of '" + sources_.name() + "' with '" + targets_.positions().name() +
+                  "': stored neighbour lists are used but update(policy) was not called since the particle count "
+                  "changed");
+  }
+
+  DiscreteVariable<Vec<T, D>>& sources_;
+  CellLinkedList<T, D>& targets_;
+  SearchMethod method_;
+  StoredNeighborLists<T, D> lists_;
+  Index source_count_ = unset;
+};
+
+}  // namespace unisph

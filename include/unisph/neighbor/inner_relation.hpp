@@ -1,0 +1,89 @@
+#pragma once
+// InnerRelation<T, D>: the neighbours of a body's particles among its own particles (j != i),
+// found through the body's cell linked list.
+//
+//   CellLinkedList<T, 3> cells(body.positions(), box, cutoff);
+//   InnerRelation<T, 3> inner(cells);
+//   cells.build(policy); inner.update(policy);        // after the particles moved
+//   NeighborSearch<T, 3> s = inner.search(context);   // in a method's make_kernel
+//
+// update() builds the stored lists when the method for the policy is SearchMethod::stored;
+// for direct search it does nothing (the cell list is all a direct search needs).
+
+#include <string>
+
+#include "unisph/dynamics/kernel_context.hpp"
+#include "unisph/neighbor/search_method.hpp"
+#include "unisph/neighbor/stored_neighbor_lists.hpp"
+
+namespace unisph {
+
+template <class T, int D>
+class InnerRelation {
+ public:
+  explicit InnerRelation(CellLinkedList<T, D>& cells, SearchMethod method = SearchMethod::automatic)
+      : cells_(cells), method_(method), lists_(cells.positions().name() + ".Inner") {}
+
+  CellLinkedList<T, D>& cell_list() { return cells_; }
+  template <ExecutionPolicy P>
+  SearchMethod method(P policy) const { return resolve_search_method(method_, policy); }
+  void set_method(SearchMethod method) { method_ = method; }
+  // Sources are particles [0, source_count); by default every particle in the cell list.
+  // A particle set with ghosts passes its owned count: ghosts are found but not updated.
+  void set_source_count(Index count) { source_count_ = count; }
+  Index source_count() const { return source_count_ == unset ? cells_.positions().size() : source_count_; }
+
+  // Call after cells.build(policy) and before the kernels that use search().
+  template <ExecutionPolicy P>
+  void update(P policy) {
+    if (method(policy) == SearchMethod::stored) {
+      lists_.build(policy, direct_search(policy), source_count());
+    }
+  }
+
+  template <ExecutionPolicy P>
+  NeighborSearch<T, D> search(P policy) {
+    NeighborSearch<T, D> s = direct_search(policy);
+    if (method(policy) == SearchMethod::stored) {
+      check_lists();
+      s.list_offsets = lists_.offsets().read(P::space);
+      s.list_neighbors = lists_.neighbors().read(P::space);
+    }
+    return s;
+  }
+  NeighborSearch<T, D> search(KernelContext& context) {
+    NeighborSearch<T, D> s{context.read(cells_.positions()), cells_.view(context), true, {}, {}};
+    const bool stored = context.space() == MemorySpace::device
+                            ? method(ParallelDevicePolicy{}) == SearchMethod::stored
+                            : method(ParallelPolicy{}) == SearchMethod::stored;
+    if (stored) {
+      check_lists();
+      s.list_offsets = context.read(lists_.offsets());
+      s.list_neighbors = context.read(lists_.neighbors());
+    }
+    return s;
+  }
+
+  StoredNeighborLists<T, D>& stored_lists() { return lists_; }
+
+ private:
+  static constexpr Index unset = ~Index(0);
+
+  template <ExecutionPolicy P>
+  NeighborSearch<T, D> direct_search(P policy) {
+    return {cells_.positions().read(policy), cells_.view(policy), true, {}, {}};
+  }
+  void check_lists() {
+    if (lists_.offsets().size() != source_count() + 1)
+      throw Error("InnerRelation of '" + cells_.positions().name() +
+                  "': stored neighbour lists are used but update(policy) was not called since the particle count "
+                  "changed");
+  }
+
+  CellLinkedList<T, D>& cells_;
+  SearchMethod method_;
+  StoredNeighborLists<T, D> lists_;
+  Index source_count_ = unset;
+};
+
+}  // namespace unisph

@@ -1,0 +1,91 @@
+#pragma once
+// ParticleSorter<T, D>: reorders a particle set by the Morton key of each particle's cell, so
+// that particles close in space are close in memory (neighbour loops then read contiguous
+// memory instead of scattered lines). Keys -> sort_pairs (radix sort, CUB on the device) of
+// (key, index) -> every sortable variable permuted, ids kept (ParticleSet::reorder).
+// Only the key bits the grid can set are sorted (fewer radix passes for small grids).
+// Particles with a NaN coordinate go last; out-of-box ones sort with their border cell.
+// After a sort, every cell list over the set is stale: rebuild it before searching.
+
+#include <cstdint>
+
+#include "unisph/exec/algorithms.hpp"
+#include "unisph/neighbor/morton_key.hpp"
+#include "unisph/neighbor/search_grid.hpp"
+#include "unisph/particles/particle_set.hpp"
+
+namespace unisph {
+
+namespace sorter_detail {
+template <class T, int D>
+struct ComputeKeys {
+  SearchGrid<T, D> grid;
+  std::uint64_t last_key;  // for particles with a NaN coordinate
+  View<const Vec<T, D>> positions;
+  View<std::uint64_t> keys;
+  View<std::uint32_t> indices;
+  UNISPH_HOST_DEVICE void operator()(Index i) const {
+    const CellPlacement<D> p = grid.place(positions[i]);
+    keys[i] = (p.status & placement_non_finite) ? last_key : morton_key<D>(p.cell);
+    indices[i] = static_cast<std::uint32_t>(i);
+  }
+};
+}  // namespace sorter_detail
+
+template <class T, int D>
+class ParticleSorter {
+ public:
+  // `every` > 0: sort_if_due() sorts at steps 0, every, 2 * every, ...
+  ParticleSorter(ParticleSet& particles, DiscreteVariable<Vec<T, D>>& positions, const SearchGrid<T, D>& grid,
+                 Index every = 1)
+      : particles_(particles),
+        positions_(positions),
+        grid_(grid),
+        every_(every == 0 ? 1 : every),
+        keys_(particles.name() + ".MortonKey"),
+        permutation_(particles.name() + ".SortPermutation") {
+    int largest = 1;
+    for (int a = 0; a < D; ++a) largest = grid.cells[a] > largest ? grid.cells[a] : largest;
+    key_bits_ = morton_key_bits(D, largest) + 1;  // + 1: room for the NaN key above every cell
+  }
+
+  template <ExecutionPolicy P>
+  void sort(P policy) {
+    const Index n = particles_.owned_count();
+    keys_.resize(n);
+    permutation_.resize(n);
+    particle_for(policy, n,
+                 sorter_detail::ComputeKeys<T, D>{grid_, std::uint64_t(1) << (key_bits_ - 1),
+                                                  positions_.read(policy), keys_.write(policy),
+                                                  permutation_.write(policy)});
+    sort_pairs(policy, keys_.read_write(policy), permutation_.read_write(policy), 0, key_bits_);
+    particles_.reorder(policy, permutation_.read(policy));
+    ++sorts_;
+  }
+
+  // Sorts when `step` is a multiple of the interval; true when it did.
+  template <ExecutionPolicy P>
+  bool sort_if_due(P policy, Index step) {
+    if (step % every_ != 0) return false;
+    sort(policy);
+    return true;
+  }
+
+  int key_bits() const { return key_bits_; }
+  Index sorts() const { return sorts_; }
+  DiscreteVariable<std::uint64_t>& keys() { return keys_; }
+  // After sort(): the old index of the particle now at index k.
+  DiscreteVariable<std::uint32_t>& permutation() { return permutation_; }
+
+ private:
+  ParticleSet& particles_;
+  DiscreteVariable<Vec<T, D>>& positions_;
+  SearchGrid<T, D> grid_;
+  Index every_;
+  int key_bits_ = 1;
+  DiscreteVariable<std::uint64_t> keys_;
+  DiscreteVariable<std::uint32_t> permutation_;
+  Index sorts_ = 0;
+};
+
+}  // namespace unisph

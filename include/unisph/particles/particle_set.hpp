@@ -1,0 +1,127 @@
+#pragma once
+// ParticleSet: the particles of one body — a registry of named per-particle variables, a
+// stable id per particle, and the split between owned particles and ghosts.
+//
+// Owned particles are [0, owned_count()); ghosts, copies of particles owned by a neighbouring
+// domain (another GPU or rank, once there are several), follow in
+// [owned_count(), total_count()). Kernels update owned particles only and read both; every
+// variable has total_count() elements. Reordering permutes owned particles only: ghosts are
+// rewritten by each halo exchange.
+//
+// Ids: owned particle k of a new set gets id first_id + k ("ParticleId", sortable, output).
+// Reordering moves the ids with the particles; index_of_id() maps id - first_id back to the
+// current index of an owned particle, and is refreshed by every reorder().
+
+#include <algorithm>
+#include <cstdint>
+#include <limits>
+#include <string>
+
+#include "unisph/exec/algorithms.hpp"
+#include "unisph/particles/permute_bytes.hpp"
+#include "unisph/particles/variable_registry.hpp"
+
+namespace unisph {
+
+inline constexpr VariableTag<std::uint64_t> particle_id_tag{"ParticleId"};
+
+namespace particle_set_detail {
+struct MapIdsToIndices {
+  View<const std::uint64_t> ids;
+  std::uint64_t first_id;
+  View<std::uint32_t> index_of_id;
+  UNISPH_HOST_DEVICE void operator()(Index i) const {
+    index_of_id[ids[i] - first_id] = static_cast<std::uint32_t>(i);
+  }
+};
+}  // namespace particle_set_detail
+
+class ParticleSet {
+ public:
+  ParticleSet(std::string name, Index owned_count, Index ghost_count = 0, std::uint64_t first_id = 0)
+      : name_(std::move(name)),
+        owned_(owned_count),
+        ghosts_(ghost_count),
+        first_id_(first_id),
+        variables_("particle set '" + name_ + "'", owned_count + ghost_count),
+        index_of_id_(name_ + ".IndexOfId", owned_count),
+        scratch_(name_ + ".ReorderScratch") {
+    if (owned_count >= Index(std::numeric_limits<std::uint32_t>::max()))
+      throw Error("particle set '" + name_ + "': " + std::to_string(owned_count) +
+                  " particles; particle indices are 32-bit");
+    DiscreteVariable<std::uint64_t>& ids = variables_.add(particle_id_tag, sortable_output_variable);
+    View<std::uint64_t> id = ids.write(MemorySpace::host);
+    View<std::uint32_t> index = index_of_id_.write(MemorySpace::host);
+    for (Index k = 0; k < owned_count; ++k) {
+      id[k] = first_id + k;
+      index[k] = static_cast<std::uint32_t>(k);
+    }
+  }
+
+  const std::string& name() const { return name_; }
+  Index owned_count() const { return owned_; }
+  Index ghost_count() const { return ghosts_; }
+  Index total_count() const { return owned_ + ghosts_; }
+  std::uint64_t first_id() const { return first_id_; }
+
+  VariableRegistry& variables() { return variables_; }
+  template <class T>
+  DiscreteVariable<T>& add_variable(const std::string& name, VariableFlags flags = {}) {
+    return variables_.add<T>(name, flags);
+  }
+  template <class T>
+  DiscreteVariable<T>& add_variable(VariableTag<T> tag, VariableFlags flags = {}) {
+    return variables_.add(tag, flags);
+  }
+  template <class T>
+  DiscreteVariable<T>& variable(std::string_view name) {
+    return variables_.get<T>(name);
+  }
+  template <class T>
+  DiscreteVariable<T>& variable(VariableTag<T> tag) {
+    return variables_.get(tag);
+  }
+
+  DiscreteVariable<std::uint64_t>& ids() { return variables_.get(particle_id_tag); }
+  DiscreteVariable<std::uint32_t>& index_of_id() { return index_of_id_; }
+
+  // Makes room for `count` ghosts after the owned particles (their contents are the caller's
+  // to fill: a halo exchange writes every ghost slot).
+  void set_ghost_count(Index count) {
+    ghosts_ = count;
+    variables_.resize(total_count());
+  }
+
+  // Moves owned particle permutation[k] to index k, for every sortable variable, and
+  // refreshes index_of_id(). `permutation` is a permutation of [0, owned_count()) in the
+  // policy's memory space.
+  template <ExecutionPolicy P>
+  void reorder(P policy, View<const std::uint32_t> permutation) {
+    if (permutation.size() != owned_)
+      throw Error("particle set '" + name_ + "': a permutation of " + std::to_string(permutation.size()) +
+                  " particles cannot reorder " + std::to_string(owned_) + " owned particles");
+    variables_.for_each([&](VariableRegistry::Entry& e) {
+      if (!e.flags.sortable || owned_ == 0) return;
+      VariableBase& v = *e.variable;
+      const std::size_t bytes = owned_ * v.element_size();
+      scratch_.resize(std::max<Index>(scratch_.size(), (bytes + 3) / 4));
+      void* tmp = scratch_.write(policy).data();
+      void* data = v.prepare(P::space, Access::read_write);
+      gather_by_permutation(policy, permutation, data, tmp, v.element_size());
+      copy_bytes(policy, tmp, data, bytes);
+    });
+    particle_for(policy, owned_,
+                 particle_set_detail::MapIdsToIndices{ids().read(policy), first_id_, index_of_id_.write(policy)});
+  }
+
+ private:
+  std::string name_;
+  Index owned_;
+  Index ghosts_;
+  std::uint64_t first_id_;
+  VariableRegistry variables_;
+  DiscreteVariable<std::uint32_t> index_of_id_;
+  DiscreteVariable<std::uint32_t> scratch_;
+};
+
+}  // namespace unisph

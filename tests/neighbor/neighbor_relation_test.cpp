@@ -1,0 +1,257 @@
+// Inner and contact relations against a brute-force O(N^2) search: every layout of
+// neighbor_scenarios.hpp, 2D and 3D, float and double, direct search and stored lists, on
+// every policy (so the sets are the same on every policy); out-of-box and NaN particles in
+// both OutsideParticles modes; pairs whose decision a fused multiply-add would flip.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "neighbor_scenarios.hpp"
+#include "support/policy_test.hpp"
+#include "unisph/neighbor/contact_relation.hpp"
+#include "unisph/neighbor/inner_relation.hpp"
+
+namespace {
+using namespace unisph;
+using namespace unisph::testing;
+
+using NeighborSets = std::vector<std::vector<std::uint32_t>>;
+
+// Writes the neighbours of each source into a fixed-capacity row, and counts any pair whose
+// r_ij, |r_ij| or e_ij is not what the positions say.
+template <class T, int D>
+struct CollectNeighbors {
+  NeighborSearch<T, D> search;
+  Index capacity;
+  View<std::uint32_t> found;
+  View<std::uint32_t> counts;
+  View<unsigned> errors;
+  UNISPH_HOST_DEVICE void operator()(Index i) const {
+    Index c = 0;
+    const Vec<T, D> xi = search.sources[i];
+    search.for_each_neighbor(i, [&](Index j, const NeighborPair<T, D>& pair) {
+      const Vec<T, D> r = xi - search.targets.positions[j];
+      const T d = pair.distance();
+      const Vec<T, D> e = pair.direction();
+      const T e_norm2 = dot(e, e);
+      const bool r_ok = r == pair.r_ij && pair.squared_distance < search.targets.grid.cutoff_squared;
+      const bool d_ok = d >= T(0) && d < search.targets.grid.cutoff * T(1.0001);
+      const bool e_ok = d == T(0) ? e_norm2 == T(0) : (e_norm2 > T(0.999) && e_norm2 < T(1.001));
+      if (!(r_ok && d_ok && e_ok)) atomic_add(&errors[0], 1u);
+      if (c < capacity) found[i * capacity + c] = static_cast<std::uint32_t>(j);
+      ++c;
+    });
+    counts[i] = static_cast<std::uint32_t>(c);
+  }
+};
+
+template <class T, int D, class P>
+NeighborSets collect(P policy, NeighborSearch<T, D> search, Index sources, Index capacity, unsigned& errors) {
+  DiscreteVariable<std::uint32_t> found("found", sources * capacity), counts("counts", sources);
+  DiscreteVariable<unsigned> error_count("errors", 1);
+  particle_for(policy, sources,
+               CollectNeighbors<T, D>{search, capacity, found.write(policy), counts.write(policy),
+                                      error_count.write(policy)});
+  const std::vector<std::uint32_t> f = found.to_vector(), c = counts.to_vector();
+  errors = error_count.to_vector()[0];
+  NeighborSets sets(sources);
+  for (Index i = 0; i < sources; ++i) {
+    sets[i].assign(f.begin() + i * capacity, f.begin() + i * capacity + std::min<Index>(c[i], capacity));
+    if (c[i] > capacity) sets[i].push_back(~0u);  // overflow: never equal to the reference
+    std::sort(sets[i].begin(), sets[i].end());
+  }
+  return sets;
+}
+
+// The reference: every pair tested, with the rules the relation documents.
+template <class T, int D>
+NeighborSets brute_force(const SearchGrid<T, D>& grid, const std::vector<Vec<T, D>>& sources,
+                         const std::vector<Vec<T, D>>& targets, bool inner, bool flag_outside) {
+  NeighborSets sets(sources.size());
+  auto flagged = [&](const Vec<T, D>& x) { return flag_outside && grid.place(x).status != placement_inside; };
+  for (Index i = 0; i < sources.size(); ++i) {
+    if (inner && flagged(sources[i])) continue;
+    for (Index j = 0; j < targets.size(); ++j) {
+      if ((inner && i == j) || flagged(targets[j])) continue;
+      Vec<T, D> r;
+      T r2;
+      if (grid.test_pair(sources[i], targets[j], r, r2)) sets[i].push_back(static_cast<std::uint32_t>(j));
+    }
+  }
+  return sets;
+}
+
+Index capacity_for(const NeighborSets& reference) {
+  Index most = 0;
+  for (const auto& s : reference) most = std::max<Index>(most, s.size());
+  return most + 1;
+}
+
+Index pair_count(const NeighborSets& sets) {
+  Index n = 0;
+  for (const auto& s : sets) n += s.size();
+  return n;
+}
+
+template <class T, int D>
+std::vector<Vec<T, D>> contact_sources(Index n) {
+  std::mt19937_64 rng(99 + D);
+  std::vector<Vec<T, D>> x;
+  for (Index k = 0; k < n; ++k) x.push_back(random_point<T, D>(rng, -0.3, 1.3));  // some outside the box
+  return x;
+}
+
+template <class T, int D, class P>
+void check_layouts(P policy) {
+  for (Layout layout : all_layouts) {
+    for (SearchMethod method : {SearchMethod::direct, SearchMethod::stored}) {
+      const std::string what = std::string(to_string(layout)) + ", " + std::to_string(D) + "D, " +
+                               (sizeof(T) == 4 ? "float" : "double") +
+                               (method == SearchMethod::direct ? ", direct search" : ", stored lists");
+      SCOPED_TRACE(what);
+      const Scenario<T, D> s = make_scenario<T, D>(layout);
+      DiscreteVariable<Vec<T, D>> x("Position");
+      x.assign(s.positions);
+      CellLinkedList<T, D> cells(x, s.box, s.cutoff);
+      cells.build(policy);
+      InnerRelation<T, D> inner(cells, method);
+      inner.update(policy);
+      const NeighborSets expected = brute_force(cells.grid(), s.positions, s.positions, true, false);
+      unsigned errors = 0;
+      const NeighborSets got = collect(policy, inner.search(policy), x.size(), capacity_for(expected), errors);
+      EXPECT_EQ(errors, 0u);
+      EXPECT_TRUE(got == expected) << "inner: " << pair_count(got) << " pairs, expected " << pair_count(expected);
+      if (method == SearchMethod::stored) {
+        EXPECT_EQ(inner.stored_lists().pair_count(), pair_count(expected));
+      }
+      if (layout == Layout::lattice_on_faces) {  // 26 (3D) or 8 (2D) neighbours inside, pairs at the cutoff excluded
+        EXPECT_EQ(expected[x.size() / 2].size(), D == 3 ? 26u : 8u);
+      }
+
+      const std::vector<Vec<T, D>> other = contact_sources<T, D>(D == 2 ? 300 : 500);
+      DiscreteVariable<Vec<T, D>> y("Other");
+      y.assign(other);
+      ContactRelation<T, D> contact(y, cells, method);
+      contact.update(policy);
+      const NeighborSets expected_contact = brute_force(cells.grid(), other, s.positions, false, false);
+      const NeighborSets got_contact =
+          collect(policy, contact.search(policy), y.size(), capacity_for(expected_contact), errors);
+      EXPECT_EQ(errors, 0u);
+      EXPECT_TRUE(got_contact == expected_contact)
+          << "contact: " << pair_count(got_contact) << " pairs, expected " << pair_count(expected_contact);
+    }
+  }
+}
+
+UNISPH_POLICY_TEST_SUITE(NeighborRelation);
+
+TYPED_TEST(NeighborRelation, MatchesBruteForce2DFloat) { check_layouts<float, 2>(this->policy); }
+TYPED_TEST(NeighborRelation, MatchesBruteForce2DDouble) { check_layouts<double, 2>(this->policy); }
+TYPED_TEST(NeighborRelation, MatchesBruteForce3DFloat) { check_layouts<float, 3>(this->policy); }
+TYPED_TEST(NeighborRelation, MatchesBruteForce3DDouble) { check_layouts<double, 3>(this->policy); }
+
+// Random particles, a tenth of them beyond the box faces and some with NaN coordinates, with
+// the box faces both clamping and flagging them.
+template <class T, int D, class P>
+void check_outside(P policy, OutsideParticles mode) {
+  std::mt19937_64 rng(5);
+  std::vector<Vec<T, D>> pos;
+  Index nans = 0, outside = 0;
+  for (int k = 0; k < 800; ++k) {
+    Vec<T, D> p = random_point<T, D>(rng, 0, 1);
+    if (k % 10 == 3) {
+      p[k % D] = k % 20 == 3 ? T(1) + T(0.05) : -std::numeric_limits<T>::infinity();
+      ++outside;
+    }
+    if (k % 37 == 5) {
+      p[(k + 1) % D] = std::numeric_limits<T>::quiet_NaN();
+      ++nans;
+    }
+    pos.push_back(p);
+  }
+  const Box<T, D> box{Vec<T, D>::constant(T(0)), Vec<T, D>::constant(T(1))};
+  DiscreteVariable<Vec<T, D>> x("Position");
+  x.assign(pos);
+  CellLinkedList<T, D> cells(x, box, T(0.1), mode);
+  cells.build(policy);
+  const CellListReport report = cells.report();
+  Index outside_or_nan = 0;
+  for (const auto& p : pos) outside_or_nan += cells.grid().place(p).status != placement_inside;
+  EXPECT_EQ(report.particles, pos.size());
+  EXPECT_EQ(report.non_finite, nans);
+  EXPECT_EQ(report.out_of_box, outside);
+  EXPECT_EQ(report.flagged, mode == OutsideParticles::flag ? outside_or_nan : 0u);
+  for (SearchMethod method : {SearchMethod::direct, SearchMethod::stored}) {
+    InnerRelation<T, D> inner(cells, method);
+    inner.update(policy);
+    const NeighborSets expected =
+        brute_force(cells.grid(), pos, pos, true, mode == OutsideParticles::flag);
+    unsigned errors = 0;
+    const NeighborSets got = collect(policy, inner.search(policy), x.size(), capacity_for(expected), errors);
+    EXPECT_EQ(errors, 0u);
+    EXPECT_TRUE(got == expected) << pair_count(got) << " pairs, expected " << pair_count(expected);
+  }
+}
+
+TYPED_TEST(NeighborRelation, OutsideAndNaNParticlesClamped) {
+  check_outside<float, 3>(this->policy, OutsideParticles::clamp);
+  check_outside<double, 2>(this->policy, OutsideParticles::clamp);
+}
+TYPED_TEST(NeighborRelation, OutsideAndNaNParticlesFlagged) {
+  check_outside<double, 3>(this->policy, OutsideParticles::flag);
+  check_outside<float, 2>(this->policy, OutsideParticles::flag);
+}
+
+// Particles around a centre at almost exactly the cutoff, kept only where a fused r^2 (as nvcc
+// or a host with FMA would compute by default) decides differently from the separately
+// rounded one. Every policy must decide as the separately rounded r^2.
+template <class T, int D, class P>
+void check_contraction_sensitive(P policy) {
+  const T cutoff = T(0.1);
+  const Vec<T, D> centre = Vec<T, D>::constant(T(0.5));
+  const SearchGrid<T, D> grid = SearchGrid<T, D>::make({Vec<T, D>{}, Vec<T, D>::constant(T(1))}, cutoff);
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> g(0, 1);
+  std::vector<Vec<T, D>> pos{centre};
+  Index disagreements = 0;
+  for (int attempt = 0; attempt < 400000 && pos.size() < 200; ++attempt) {
+    Vec<T, D> dir;
+    double len2 = 0;
+    for (int a = 0; a < D; ++a) dir[a] = static_cast<T>(g(rng)), len2 += double(dir[a]) * dir[a];
+    Vec<T, D> x;
+    for (int a = 0; a < D; ++a) x[a] = static_cast<T>(centre[a] + dir[a] * cutoff / std::sqrt(len2));
+    Vec<T, D> r;
+    T separate;
+    grid.test_pair(centre, x, r, separate);
+    T fused = r[0] * r[0];
+    for (int a = 1; a < D; ++a) fused = std::fma(r[a], r[a], fused);
+    if ((separate < grid.cutoff_squared) != (fused < grid.cutoff_squared)) {
+      pos.push_back(x);
+      ++disagreements;
+    }
+  }
+  ASSERT_GT(disagreements, 10u) << "no contraction-sensitive pairs found: the test checks nothing";
+  DiscreteVariable<Vec<T, D>> xv("Position");
+  xv.assign(pos);
+  CellLinkedList<T, D> cells(xv, grid.box, cutoff);
+  cells.build(policy);
+  InnerRelation<T, D> inner(cells, SearchMethod::direct);
+  const NeighborSets expected = brute_force(cells.grid(), pos, pos, true, false);
+  unsigned errors = 0;
+  const NeighborSets got = collect(policy, inner.search(policy), xv.size(), capacity_for(expected), errors);
+  EXPECT_TRUE(got[0] == expected[0]) << got[0].size() << " of the " << disagreements
+                                     << " sensitive particles found, expected " << expected[0].size();
+}
+
+TYPED_TEST(NeighborRelation, ContractionSensitivePairsDecidedWithoutFusedMultiplyAdd) {
+  check_contraction_sensitive<float, 3>(this->policy);
+  check_contraction_sensitive<double, 3>(this->policy);
+  check_contraction_sensitive<float, 2>(this->policy);
+  check_contraction_sensitive<double, 2>(this->policy);
+}
+
+}  // namespace

@@ -1,0 +1,148 @@
+// Morton reordering: keys without aliasing up to 2^21 cells per axis; after a sort every
+// particle's variables still belong to its id (a per-id fingerprint), keys are in order,
+// neighbour sets by id are unchanged, on every policy, 2D and 3D, float and double.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <set>
+#include <vector>
+
+#include "neighbor_scenarios.hpp"
+#include "support/policy_test.hpp"
+#include "unisph/neighbor/inner_relation.hpp"
+#include "unisph/neighbor/particle_sorter.hpp"
+#include "unisph/particles/body.hpp"
+
+namespace {
+using namespace unisph;
+using namespace unisph::testing;
+
+TEST(HostMortonKey, InterleavesWithoutAliasing) {
+  EXPECT_EQ(morton_key<3>({{1, 0, 0}}), 1u);
+  EXPECT_EQ(morton_key<3>({{0, 1, 0}}), 2u);
+  EXPECT_EQ(morton_key<3>({{0, 0, 1}}), 4u);
+  EXPECT_EQ(morton_key<2>({{3, 1}}), 0b0111u);
+  const int top = (1 << 21) - 1;
+  EXPECT_EQ(morton_key<3>({{top, top, top}}), (std::uint64_t(1) << 63) - 1);
+  EXPECT_EQ(morton_key<2>({{top, top}}), (std::uint64_t(1) << 42) - 1);
+  // Coordinates that differ only in high bits (or by one axis) get different keys.
+  std::mt19937 rng(1);
+  std::uniform_int_distribution<int> c(0, top);
+  std::set<std::uint64_t> keys;
+  std::vector<Vec<int, 3>> cells;
+  for (int k = 0; k < 20000; ++k) cells.push_back({{c(rng), c(rng), c(rng)}});
+  for (int k = 0; k < 64; ++k) cells.push_back({{top - k % 2, top, k % 3 == 0 ? 0 : top}});
+  std::set<std::vector<int>> distinct;
+  for (const auto& v : cells) {
+    keys.insert(morton_key<3>(v));
+    distinct.insert({v[0], v[1], v[2]});
+  }
+  EXPECT_EQ(keys.size(), distinct.size());
+  // Decoding each axis back from the key gives the coordinates.
+  for (const auto& v : cells) {
+    const std::uint64_t key = morton_key<3>(v);
+    for (int a = 0; a < 3; ++a) {
+      int back = 0;
+      for (int b = 0; b < 21; ++b) back |= int((key >> (3 * b + a)) & 1u) << b;
+      ASSERT_EQ(back, v[a]);
+    }
+  }
+  EXPECT_EQ(morton_key_bits(3, 83), 21);
+  EXPECT_EQ(morton_key_bits(2, 1 << 21), 42);
+}
+
+template <class T, int D>
+double fingerprint(std::uint64_t id) {
+  return std::sin(0.37 * double(id)) * 1000.0 + double(id % 97);
+}
+
+template <class T, int D, class P>
+void check_sort(P policy) {
+  SCOPED_TRACE(std::to_string(D) + "D, " + (sizeof(T) == 4 ? "float" : "double"));
+  const Scenario<T, D> s = make_scenario<T, D>(Layout::random, 21);
+  const Index n = s.positions.size();
+  Body<T, D> body("Water", s.box, n, 3);  // 3 ghosts after the owned particles
+  ParticleSet& set = body.particles();
+  auto& print = set.add_variable<double>("Fingerprint", sortable_output_variable);
+  auto& half = set.add_variable<Vec<T, D>>("HalfPosition", sortable_variable);
+  {
+    View<Vec<T, D>> x = body.positions().write(MemorySpace::host);
+    View<double> f = print.write(MemorySpace::host);
+    View<Vec<T, D>> h = half.write(MemorySpace::host);
+    for (Index i = 0; i < n + 3; ++i) {
+      x[i] = i < n ? s.positions[i] : Vec<T, D>::constant(T(0.5));
+      f[i] = i < n ? fingerprint<T, D>(i) : -1.0;
+      h[i] = x[i] * T(0.5);
+    }
+  }
+  CellLinkedList<T, D> cells(body.positions(), s.box, s.cutoff);
+  cells.build(policy);
+  InnerRelation<T, D> inner(cells, SearchMethod::stored);
+  inner.set_source_count(n);
+  inner.update(policy);
+  auto pairs_by_id = [&](InnerRelation<T, D>& rel) {
+    const auto off = rel.stored_lists().offsets().to_vector();
+    const auto nb = rel.stored_lists().neighbors().to_vector();
+    const auto id = set.ids().to_vector();
+    std::set<std::pair<std::uint64_t, std::uint64_t>> pairs;
+    for (Index i = 0; i < n; ++i)
+      for (std::uint64_t k = off[i]; k < off[i + 1]; ++k)
+        pairs.insert({id[i], nb[k] < n ? id[nb[k]] : ~std::uint64_t(0)});  // ghosts have no id
+    return pairs;
+  };
+  const auto before = pairs_by_id(inner);
+
+  ParticleSorter<T, D> sorter(set, body.positions(), cells.grid(), 10);
+  EXPECT_FALSE(sorter.sort_if_due(policy, 3));
+  EXPECT_TRUE(sorter.sort_if_due(policy, 20));
+  EXPECT_EQ(sorter.sorts(), 1u);
+
+  const auto id = set.ids().to_vector();
+  const auto f = print.to_vector();
+  const auto x = body.positions().to_vector();
+  const auto h = half.to_vector();
+  const auto index_of_id = set.index_of_id().to_vector();
+  const auto keys = sorter.keys().to_vector();
+  EXPECT_TRUE(std::is_sorted(keys.begin(), keys.end()));
+  Index wrong = 0;
+  std::vector<int> seen(n, 0);
+  for (Index i = 0; i < n; ++i) {
+    ASSERT_LT(id[i], n);
+    ++seen[id[i]];
+    wrong += f[i] != fingerprint<T, D>(id[i]);
+    wrong += !(x[i] == s.positions[id[i]]);
+    wrong += !(h[i] == s.positions[id[i]] * T(0.5));
+    wrong += index_of_id[id[i]] != i;
+    wrong += keys[i] != morton_key<D>(cells.grid().place(x[i]).cell);
+  }
+  for (Index i = n; i < n + 3; ++i) wrong += f[i] != -1.0;  // ghosts untouched
+  EXPECT_EQ(wrong, 0u);
+  EXPECT_TRUE(std::all_of(seen.begin(), seen.end(), [](int v) { return v == 1; }));
+
+  cells.build(policy);
+  inner.update(policy);
+  EXPECT_TRUE(pairs_by_id(inner) == before) << "neighbour pairs by id changed with the order";
+}
+
+UNISPH_POLICY_TEST_SUITE(MortonSort);
+
+TYPED_TEST(MortonSort, EveryIdKeepsItsVariables) {
+  check_sort<float, 2>(this->policy);
+  check_sort<double, 2>(this->policy);
+  check_sort<float, 3>(this->policy);
+  check_sort<double, 3>(this->policy);
+}
+
+TYPED_TEST(MortonSort, NaNParticlesSortLast) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const Box<double, 2> box{Vec<double, 2>{}, Vec<double, 2>::constant(1.0)};
+  Body<double, 2> body("Water", box, 4);
+  body.positions().assign(std::vector<Vec<double, 2>>{{{0.9, 0.9}}, {{nan, 0.1}}, {{0.1, 0.1}}, {{0.5, 0.5}}});
+  const SearchGrid<double, 2> grid = SearchGrid<double, 2>::make(box, 0.1);
+  ParticleSorter<double, 2> sorter(body.particles(), body.positions(), grid);
+  sorter.sort(this->policy);
+  EXPECT_EQ(body.particles().ids().to_vector(), (std::vector<std::uint64_t>{2, 3, 0, 1}));
+}
+
+}  // namespace
