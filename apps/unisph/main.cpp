@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   unisph::app::add_info_command(app);
   unisph::app::add_demo_command(app);
+  unisph::app::add_geometry_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

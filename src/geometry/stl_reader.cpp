@@ -104,9 +104,13 @@ class AsciiTokens {
   void expect(std::string_view keyword) {
     const std::size_t line = line_after_space();
     const std::string_view word = next(std::string(keyword).c_str());
-    if (!equal_ignoring_case(word, keyword))
+    if (!equal_ignoring_case(word, keyword)) {
+      if (pos_ == text_.size())
+        fail(source_, "ASCII STL ends early (line " + std::to_string(line) + "): its last word '" + printable(word) +
+                          "' stands where '" + std::string(keyword) + "' was expected; the file may be truncated");
       fail(source_, "ASCII STL line " + std::to_string(line) + ": expected '" + std::string(keyword) + "', found '" +
                         printable(word) + "'");
+    }
   }
   double number(const char* what) {
     const std::size_t line = line_after_space();
