@@ -116,7 +116,7 @@ void VariableBase::resize_elements(Index count) {
   }
 
   if (host) {
-    std::memcpy(host, host_, kept);
+    if (kept) std::memcpy(host, host_, kept);
     std::memset(static_cast<char*>(host) + kept, 0, new_bytes - kept);
   }
   if (keep_device) {
