@@ -123,7 +123,7 @@ TYPED_TEST(PolygonSearchTest, ClosestPointAndSignAgainstBruteForceAndWindingNumb
         const std::uint32_t next = k + 1 == set.loop_start[l + 1] ? set.loop_start[l] : k + 1;
         const Vec2 a{{Real(set.vertices[k][0]), Real(set.vertices[k][1])}};
         const Vec2 b{{Real(set.vertices[next][0]), Real(set.vertices[next][1])}};
-        best = std::min(best, squared_norm(points[i] - closest_point_on_segment(points[i], a, b).point));
+        best = std::min(best, squared_distance(points[i], closest_point_on_segment(points[i], a, b).point));
       }
     ASSERT_NEAR(std::sqrt(got_d2[i]), std::sqrt(best), 4 * std::numeric_limits<Real>::epsilon() * (1 + std::sqrt(best)))
         << "point " << i;

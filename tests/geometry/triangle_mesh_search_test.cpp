@@ -96,7 +96,7 @@ BruteForce brute_force(const TriangleMesh& mesh, const Vec3& p) {
     const auto& tri = mesh.triangles[t];
     const auto c = closest_point_on_triangle(p, real(mesh.vertices[tri[0]]), real(mesh.vertices[tri[1]]),
                                              real(mesh.vertices[tri[2]]));
-    const Real d2 = squared_norm(p - c.point);
+    const Real d2 = squared_distance(p, c.point);
     if (d2 < best.squared_distance) best = {d2, t};
   }
   return best;
@@ -140,7 +140,7 @@ TYPED_TEST(TriangleMeshSearchTest, ClosestPointEqualsBruteForceOnEveryMesh) {
         // must then be at the same distance to round-off.
         const auto& t = loaded.mesh.triangles[got.triangle[i]];
         auto real = [](const Vec<double, 3>& v) { return Vec3{{Real(v[0]), Real(v[1]), Real(v[2])}}; };
-        const Real d2 = squared_norm(points[i] - closest_point_on_triangle(points[i], real(loaded.mesh.vertices[t[0]]),
+        const Real d2 = squared_distance(points[i], closest_point_on_triangle(points[i], real(loaded.mesh.vertices[t[0]]),
                                                                            real(loaded.mesh.vertices[t[1]]),
                                                                            real(loaded.mesh.vertices[t[2]]))
                                                      .point);

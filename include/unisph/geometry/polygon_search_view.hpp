@@ -60,7 +60,7 @@ struct PolygonSearchView {
         for (std::uint32_t k = node.right_or_first; k < node.right_or_first + node.count; ++k) {
           const SegmentCorners s = segments[k];
           const ClosestPoint<Real, 2> c = closest_point_on_segment(p, s.corner[0], s.corner[1]);
-          const Real d2 = squared_norm(p - c.point);
+          const Real d2 = squared_distance(p, c.point);
           if (d2 < best.squared_distance || (d2 == best.squared_distance && edge_index[k] < best.edge))
             best = {c.point, d2, edge_index[k], k, c.feature};
         }

@@ -78,7 +78,7 @@ struct TriangleMeshSearchView {
         for (std::uint32_t k = node.right_or_first; k < node.right_or_first + node.count; ++k) {
           const TriangleCorners t = corners[k];
           const ClosestPoint<Real, 3> c = closest_point_on_triangle(p, t.corner[0], t.corner[1], t.corner[2]);
-          const Real d2 = squared_norm(p - c.point);
+          const Real d2 = squared_distance(p, c.point);
           if (d2 < best.squared_distance || (d2 == best.squared_distance && triangle_index[k] < best.triangle))
             best = {c.point, d2, triangle_index[k], k, c.feature};
         }
