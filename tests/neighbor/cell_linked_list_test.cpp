@@ -42,6 +42,15 @@ void check_structure(P policy, Layout layout) {
   const CellListReport r = cells.report();
   EXPECT_EQ(r.particles, n);
   EXPECT_EQ(r.out_of_box + r.non_finite + r.flagged, 0u);
+  // In cell order exactly when no particle's cell is below its predecessor's.
+  bool ordered = true;
+  for (Index i = 1; i < n; ++i)
+    ordered = ordered && cells.grid().linear_index(cells.grid().place(s.positions[i - 1]).cell) <=
+                             cells.grid().linear_index(cells.grid().place(s.positions[i]).cell);
+  EXPECT_EQ(r.in_cell_order, ordered);
+  if (layout == Layout::random) {
+    EXPECT_FALSE(r.in_cell_order);
+  }
 }
 
 UNISPH_POLICY_TEST_SUITE(CellListBuild);

@@ -55,7 +55,7 @@ NeighborSets collect(P policy, NeighborSearch<T, D> search, Index sources, Index
   DiscreteVariable<unsigned> error_count("errors", 1);
   particle_for(policy, sources,
                CollectNeighbors<T, D>{search, capacity, found.write(policy), counts.write(policy),
-                                      error_count.write(policy)});
+                                      error_count.read_write(policy)});  // read_write: starts from zero
   const std::vector<std::uint32_t> f = found.to_vector(), c = counts.to_vector();
   errors = error_count.to_vector()[0];
   NeighborSets sets(sources);
@@ -105,15 +105,26 @@ std::vector<Vec<T, D>> contact_sources(Index n) {
   return x;
 }
 
+// The positions in cell order (the order ParticleSorter gives with SortOrder::cell_index).
+template <class T, int D>
+void sort_by_cell(Scenario<T, D>& s) {
+  const SearchGrid<T, D> grid = SearchGrid<T, D>::make(s.box, s.cutoff);
+  std::stable_sort(s.positions.begin(), s.positions.end(), [&](const Vec<T, D>& a, const Vec<T, D>& b) {
+    return grid.linear_index(grid.place(a).cell) < grid.linear_index(grid.place(b).cell);
+  });
+}
+
 template <class T, int D, class P>
 void check_layouts(P policy) {
-  for (Layout layout : all_layouts) {
+  for (Layout layout : all_layouts)
+  for (bool cell_ordered : {false, true})
     for (SearchMethod method : {SearchMethod::direct, SearchMethod::stored}) {
-      const std::string what = std::string(to_string(layout)) + ", " + std::to_string(D) + "D, " +
-                               (sizeof(T) == 4 ? "float" : "double") +
+      const std::string what = std::string(to_string(layout)) + (cell_ordered ? " in cell order, " : ", ") +
+                               std::to_string(D) + "D, " + (sizeof(T) == 4 ? "float" : "double") +
                                (method == SearchMethod::direct ? ", direct search" : ", stored lists");
       SCOPED_TRACE(what);
-      const Scenario<T, D> s = make_scenario<T, D>(layout);
+      Scenario<T, D> s = make_scenario<T, D>(layout);
+      if (cell_ordered) sort_by_cell(s);
       DiscreteVariable<Vec<T, D>> x("Position");
       x.assign(s.positions);
       CellLinkedList<T, D> cells(x, s.box, s.cutoff);
@@ -143,8 +154,10 @@ void check_layouts(P policy) {
       EXPECT_EQ(errors, 0u);
       EXPECT_TRUE(got_contact == expected_contact)
           << "contact: " << pair_count(got_contact) << " pairs, expected " << pair_count(expected_contact);
+      if (cell_ordered) {
+        EXPECT_TRUE(cells.report().in_cell_order);
+      }
     }
-  }
 }
 
 UNISPH_POLICY_TEST_SUITE(NeighborRelation);

@@ -58,8 +58,9 @@ double fingerprint(std::uint64_t id) {
 }
 
 template <class T, int D, class P>
-void check_sort(P policy) {
-  SCOPED_TRACE(std::to_string(D) + "D, " + (sizeof(T) == 4 ? "float" : "double"));
+void check_sort(P policy, SortOrder order) {
+  SCOPED_TRACE(std::to_string(D) + "D, " + (sizeof(T) == 4 ? "float" : "double") +
+               (order == SortOrder::morton ? ", Morton order" : ", cell order"));
   const Scenario<T, D> s = make_scenario<T, D>(Layout::random, 21);
   const Index n = s.positions.size();
   Body<T, D> body("Water", s.box, n, 3);  // 3 ghosts after the owned particles
@@ -93,7 +94,7 @@ void check_sort(P policy) {
   };
   const auto before = pairs_by_id(inner);
 
-  ParticleSorter<T, D> sorter(set, body.positions(), cells.grid(), 10);
+  ParticleSorter<T, D> sorter(set, body.positions(), cells.grid(), 10, order);
   EXPECT_FALSE(sorter.sort_if_due(policy, 3));
   EXPECT_TRUE(sorter.sort_if_due(policy, 20));
   EXPECT_EQ(sorter.sorts(), 1u);
@@ -114,7 +115,8 @@ void check_sort(P policy) {
     wrong += !(x[i] == s.positions[id[i]]);
     wrong += !(h[i] == s.positions[id[i]] * T(0.5));
     wrong += index_of_id[id[i]] != i;
-    wrong += keys[i] != morton_key<D>(cells.grid().place(x[i]).cell);
+    const Vec<int, D> cell = cells.grid().place(x[i]).cell;
+    wrong += keys[i] != (order == SortOrder::morton ? morton_key<D>(cell) : cells.grid().linear_index(cell));
   }
   for (Index i = n; i < n + 3; ++i) wrong += f[i] != -1.0;  // ghosts untouched
   EXPECT_EQ(wrong, 0u);
@@ -123,15 +125,25 @@ void check_sort(P policy) {
   cells.build(policy);
   inner.update(policy);
   EXPECT_TRUE(pairs_by_id(inner) == before) << "neighbour pairs by id changed with the order";
+  // The 3 ghosts sit after the owned particles, in the middle of the box: out of cell order.
+  EXPECT_FALSE(cells.report().in_cell_order);
+  if (order == SortOrder::cell_index) {
+    CellLinkedList<T, D> owned_only(set.variable(position_tag<T, D>), s.box, s.cutoff);
+    body.particles().set_ghost_count(0);
+    owned_only.build(policy);
+    EXPECT_TRUE(owned_only.report().in_cell_order);
+  }
 }
 
 UNISPH_POLICY_TEST_SUITE(MortonSort);
 
 TYPED_TEST(MortonSort, EveryIdKeepsItsVariables) {
-  check_sort<float, 2>(this->policy);
-  check_sort<double, 2>(this->policy);
-  check_sort<float, 3>(this->policy);
-  check_sort<double, 3>(this->policy);
+  for (SortOrder order : {SortOrder::morton, SortOrder::cell_index}) {
+    check_sort<float, 2>(this->policy, order);
+    check_sort<double, 2>(this->policy, order);
+    check_sort<float, 3>(this->policy, order);
+    check_sort<double, 3>(this->policy, order);
+  }
 }
 
 TYPED_TEST(MortonSort, NaNParticlesSortLast) {

@@ -8,12 +8,19 @@
 // fill needs no second atomic; the order inside a cell is the order in which the atomics
 // happened (the sets are the same on every policy, the order within a cell may differ).
 //
+// When the particles are already in cell order (each particle's cell index >= the previous
+// one's, e.g. after ParticleSorter with SortOrder::cell_index), the particles of cell c are
+// exactly the indices offsets[c] .. offsets[c + 1]: the build detects it (one more pass, no
+// host wait) and the direct search then reads positions contiguously, without the indirection
+// through `particles`, in ascending j (a deterministic order).
+//
 // Positions outside the box or with a NaN coordinate are never undefined behaviour: they are
 // counted (report()) and, as the caller chooses, either clamped into the border cell
 // (OutsideParticles::clamp: still found as neighbours where within the cutoff) or put in a
 // separate bucket after the last cell (OutsideParticles::flag: they neither find nor are
 // found as neighbours). A NaN coordinate never passes the cutoff test, wherever it is put.
 
+#include <algorithm>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -35,6 +42,7 @@ struct CellListReport {
   Index out_of_box = 0;
   Index non_finite = 0;
   Index flagged = 0;
+  bool in_cell_order = false;  // the particles were in cell order (see the header comment)
 };
 
 // What kernels hold: the grid and read-only views of the CSR arrays.
@@ -45,8 +53,11 @@ struct CellListView {
   View<const Vec<T, D>> positions;
   View<const std::uint32_t> offsets;    // cell_count() + 2: the cells, the flagged bucket, the end
   View<const std::uint32_t> particles;  // particle indices grouped by cell
+  View<const unsigned long long> counters;  // [3] != 0: the particles are not in cell order
 
   UNISPH_HOST_DEVICE Index flagged_bucket() const { return offsets.size() - 2; }
+  // True when the particles of cell c are exactly the indices offsets[c] .. offsets[c + 1].
+  UNISPH_HOST_DEVICE bool in_cell_order() const { return counters[3] == 0; }
 };
 
 namespace cell_list_detail {
@@ -55,7 +66,7 @@ struct ZeroCounts {
   View<std::uint32_t> counts;
   View<unsigned long long> counters;
   UNISPH_HOST_DEVICE void operator()(Index c) const {
-    counts[c] = 0;
+    if (c < counts.size()) counts[c] = 0;
     if (c < counters.size()) counters[c] = 0;
   }
 };
@@ -69,7 +80,7 @@ struct CountParticles {
   View<std::uint32_t> bucket_of;
   View<std::uint32_t> slot_of;
   View<std::uint32_t> counts;
-  View<unsigned long long> counters;  // out of box, non-finite, flagged
+  View<unsigned long long> counters;  // out of box, non-finite, flagged, not in cell order
 
   UNISPH_HOST_DEVICE void operator()(Index i) const {
     const CellPlacement<D> p = grid.place(positions[i]);
@@ -84,6 +95,15 @@ struct CountParticles {
     }
     bucket_of[i] = bucket;
     slot_of[i] = atomic_fetch_add(&counts[bucket], 1u);
+  }
+};
+
+// Sets counters[3] when some particle's bucket is below its predecessor's.
+struct CheckCellOrder {
+  View<const std::uint32_t> bucket_of;
+  View<unsigned long long> counters;
+  UNISPH_HOST_DEVICE void operator()(Index i) const {
+    if (bucket_of[i + 1] < bucket_of[i]) atomic_max(&counters[3], 1ull);
   }
 };
 
@@ -115,7 +135,7 @@ class CellLinkedList {
         particles_(positions.name() + ".CellParticles"),
         bucket_of_(positions.name() + ".CellOfParticle"),
         slot_of_(positions.name() + ".SlotInCell"),
-        counters_(positions.name() + ".CellListCounters", 3) {}
+        counters_(positions.name() + ".CellListCounters", 4) {}
 
   const SearchGrid<T, D>& grid() const { return grid_; }
   OutsideParticles outside_particles() const { return outside_; }
@@ -139,12 +159,13 @@ class CellLinkedList {
     const Index buckets = grid_.cell_count() + 1;
     View<std::uint32_t> offsets = offsets_.write(policy);
     View<unsigned long long> counters = counters_.write(policy);
-    particle_for(policy, buckets + 1, cell_list_detail::ZeroCounts{offsets, counters});
+    particle_for(policy, std::max<Index>(buckets + 1, counters.size()), cell_list_detail::ZeroCounts{offsets, counters});
     particle_for(policy, n,
                  cell_list_detail::CountParticles<T, D>{grid_, outside_ == OutsideParticles::flag,
                                                         static_cast<std::uint32_t>(grid_.cell_count()),
                                                         positions_.read(policy), bucket_of_.write(policy),
                                                         slot_of_.write(policy), offsets, counters});
+    if (n > 1) particle_for(policy, n - 1, cell_list_detail::CheckCellOrder{bucket_of_.read(policy), counters});
     exclusive_scan(policy, View<const std::uint32_t>(offsets.subview(0, buckets)), offsets);
     particle_for(policy, n,
                  cell_list_detail::FillCells{bucket_of_.read(policy), slot_of_.read(policy), offsets,
@@ -152,10 +173,10 @@ class CellLinkedList {
     built_count_ = n;
   }
 
-  // The counts of the last build (waits for it on the device; copies three numbers).
+  // The counts of the last build (waits for it on the device; copies four numbers).
   CellListReport report() {
     View<const unsigned long long> c = counters_.read(MemorySpace::host);
-    return {built_count_, static_cast<Index>(c[0]), static_cast<Index>(c[1]), static_cast<Index>(c[2])};
+    return {built_count_, static_cast<Index>(c[0]), static_cast<Index>(c[1]), static_cast<Index>(c[2]), c[3] == 0};
   }
 
   // The kernel-side view in a policy's memory space (the list must have been built there or
@@ -163,12 +184,12 @@ class CellLinkedList {
   template <ExecutionPolicy P>
   CellListView<T, D> view(P) {
     return {grid_, outside_ == OutsideParticles::flag, positions_.read(P::space), offsets_.read(P::space),
-            particles_.read(P::space)};
+            particles_.read(P::space), counters_.read(P::space)};
   }
   // The same through a kernel shell's context, which records the variables it views.
   CellListView<T, D> view(KernelContext& context) {
     return {grid_, outside_ == OutsideParticles::flag, context.read(positions_), context.read(offsets_),
-            context.read(particles_)};
+            context.read(particles_), context.read(counters_)};
   }
 
  private:

@@ -66,13 +66,15 @@ class InnerRelation {
 
   StoredNeighborLists<T, D>& stored_lists() { return lists_; }
 
- private:
-  static constexpr Index unset = ~Index(0);
-
+  // A direct search whatever the method (what the stored lists are built from).
   template <ExecutionPolicy P>
   NeighborSearch<T, D> direct_search(P policy) {
     return {cells_.positions().read(policy), cells_.view(policy), true, {}, {}};
   }
+
+ private:
+  static constexpr Index unset = ~Index(0);
+
   void check_lists() {
     if (lists_.offsets().size() != source_count() + 1)
       throw Error("InnerRelation of '" + cells_.positions().name() +

@@ -64,6 +64,7 @@ struct NeighborSearch {
     if (placement.status & placement_non_finite) return;
     if (inner && targets.flag_outside && placement.status != placement_inside) return;
     const Vec<int, D>& c = placement.cell;
+    const bool cell_order = targets.in_cell_order();
     // The cells along axis 0 are consecutive: one range of particles per row of three cells.
     const int x_first = c[0] > 0 ? c[0] - 1 : 0;
     const int x_last = c[0] + 1 < grid.cells[0] ? c[0] + 1 : grid.cells[0] - 1;
@@ -79,15 +80,23 @@ struct NeighborSearch {
       }
       const Index first_cell = grid.linear_index(first);
       const Index last_cell = first_cell + static_cast<Index>(x_last - x_first);
+      const std::uint32_t begin = targets.offsets[first_cell];
       const std::uint32_t end = targets.offsets[last_cell + 1];
-      for (std::uint32_t k = targets.offsets[first_cell]; k < end; ++k) {
-        const Index j = targets.particles[k];
-        if (inner && j == i) continue;
-        NeighborPair<T, D> pair;
-        if (grid.test_pair(xi, targets.positions[j], pair.r_ij, pair.squared_distance))
-          f(j, static_cast<const NeighborPair<T, D>&>(pair));
+      if (cell_order) {
+        // The row's particles are the indices [begin, end): contiguous reads, no indirection.
+        for (std::uint32_t j = begin; j < end; ++j) visit(i, xi, j, f);
+      } else {
+        for (std::uint32_t k = begin; k < end; ++k) visit(i, xi, targets.particles[k], f);
       }
     }
+  }
+
+  template <class F>
+  UNISPH_HOST_DEVICE void visit(Index i, const Vec<T, D>& xi, Index j, F& f) const {
+    if (inner && j == i) return;
+    NeighborPair<T, D> pair;
+    if (targets.grid.test_pair(xi, targets.positions[j], pair.r_ij, pair.squared_distance))
+      f(j, static_cast<const NeighborPair<T, D>&>(pair));
   }
 
   // How many particles a direct search of i looks at (candidate pairs, for benchmarks).

@@ -6,27 +6,39 @@
 // Only the key bits the grid can set are sorted (fewer radix passes for small grids).
 // Particles with a NaN coordinate go last; out-of-box ones sort with their border cell.
 // After a sort, every cell list over the set is stale: rebuild it before searching.
+//
+// SortOrder::cell_index sorts by the row-major cell index instead (the cell list's own
+// order): the particles of each cell, and of each row of three cells, are then contiguous,
+// and the cell list's direct search reads them without indirection (see
+// cell_linked_list.hpp). Morton order keeps more of the 3D neighbourhood together in
+// memory; docs/neighbor_search.md compares the two.
 
 #include <cstdint>
 
 #include "unisph/exec/algorithms.hpp"
+#include "unisph/neighbor/cell_linked_list.hpp"
 #include "unisph/neighbor/morton_key.hpp"
 #include "unisph/neighbor/search_grid.hpp"
 #include "unisph/particles/particle_set.hpp"
 
 namespace unisph {
 
+enum class SortOrder { morton, cell_index };
+
 namespace sorter_detail {
 template <class T, int D>
 struct ComputeKeys {
   SearchGrid<T, D> grid;
+  bool morton;
+  bool flag_outside;       // out-of-box particles go last too (as in a flagging cell list)
   std::uint64_t last_key;  // for particles with a NaN coordinate
   View<const Vec<T, D>> positions;
   View<std::uint64_t> keys;
   View<std::uint32_t> indices;
   UNISPH_HOST_DEVICE void operator()(Index i) const {
     const CellPlacement<D> p = grid.place(positions[i]);
-    keys[i] = (p.status & placement_non_finite) ? last_key : morton_key<D>(p.cell);
+    const bool last = (p.status & placement_non_finite) || (flag_outside && p.status != placement_inside);
+    keys[i] = last ? last_key : (morton ? morton_key<D>(p.cell) : std::uint64_t(grid.linear_index(p.cell)));
     indices[i] = static_cast<std::uint32_t>(i);
   }
 };
@@ -35,18 +47,29 @@ struct ComputeKeys {
 template <class T, int D>
 class ParticleSorter {
  public:
-  // `every` > 0: sort_if_due() sorts at steps 0, every, 2 * every, ...
+  // `every` > 0: sort_if_due() sorts at steps 0, every, 2 * every, ... `outside`: as the
+  // cell lists over the set (flagged particles then sort last, keeping the cell order).
   ParticleSorter(ParticleSet& particles, DiscreteVariable<Vec<T, D>>& positions, const SearchGrid<T, D>& grid,
-                 Index every = 1)
+                 Index every = 1, SortOrder order = SortOrder::morton,
+                 OutsideParticles outside = OutsideParticles::clamp)
       : particles_(particles),
         positions_(positions),
         grid_(grid),
         every_(every == 0 ? 1 : every),
+        order_(order),
+        flag_outside_(outside == OutsideParticles::flag),
         keys_(particles.name() + ".MortonKey"),
         permutation_(particles.name() + ".SortPermutation") {
     int largest = 1;
     for (int a = 0; a < D; ++a) largest = grid.cells[a] > largest ? grid.cells[a] : largest;
-    key_bits_ = morton_key_bits(D, largest) + 1;  // + 1: room for the NaN key above every cell
+    // + 1: room for the key of the particles sorted last, above every cell's.
+    if (order == SortOrder::morton) {
+      key_bits_ = morton_key_bits(D, largest) + 1;
+    } else {
+      key_bits_ = 0;
+      while ((std::uint64_t(1) << key_bits_) < grid.cell_count()) ++key_bits_;
+      key_bits_ += 1;
+    }
   }
 
   template <ExecutionPolicy P>
@@ -55,7 +78,8 @@ class ParticleSorter {
     keys_.resize(n);
     permutation_.resize(n);
     particle_for(policy, n,
-                 sorter_detail::ComputeKeys<T, D>{grid_, std::uint64_t(1) << (key_bits_ - 1),
+                 sorter_detail::ComputeKeys<T, D>{grid_, order_ == SortOrder::morton, flag_outside_,
+                                                  std::uint64_t(1) << (key_bits_ - 1),
                                                   positions_.read(policy), keys_.write(policy),
                                                   permutation_.write(policy)});
     sort_pairs(policy, keys_.read_write(policy), permutation_.read_write(policy), 0, key_bits_);
@@ -82,6 +106,8 @@ class ParticleSorter {
   DiscreteVariable<Vec<T, D>>& positions_;
   SearchGrid<T, D> grid_;
   Index every_;
+  SortOrder order_;
+  bool flag_outside_;
   int key_bits_ = 1;
   DiscreteVariable<std::uint64_t> keys_;
   DiscreteVariable<std::uint32_t> permutation_;

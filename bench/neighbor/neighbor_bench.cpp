@@ -1,0 +1,291 @@
+// Neighbour search benchmarks (issue 3): a 3D lattice of spacing dx jittered by +-0.1 dx,
+// h = 1.3 dx, cutoff 2h, FP32, in Morton order (ParticleSorter), in cell order
+// (ParticleSorter with SortOrder::cell_index) and in a random permutation.
+//   BM_CellListBuild      count -> scan -> fill of the cell linked list
+//   BM_StoredListBuild    the CSR neighbour lists (count -> scan -> fill, by direct search)
+//   BM_DensityPass        one pass of rho_i = m sum_j W(r_ij) (Wendland C2), direct search
+//                         or stored lists, through the kernel-shell layer (InteractionDynamics)
+//   BM_MortonSort         keys, radix sort and permutation of the sortable variables
+// Counters: particles, candidate pairs (particles in the 3^3 cells walked) and neighbour pairs
+// per second, ms per 10^6 particles, and the mean density (1 for this lattice: a check).
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <numeric>
+#include <random>
+#include <utility>
+#include <vector>
+
+#include "unisph/dynamics/local_dynamics.hpp"
+#include "unisph/neighbor/inner_relation.hpp"
+#include "unisph/neighbor/particle_sorter.hpp"
+#include "unisph/particles/body.hpp"
+
+namespace {
+using namespace unisph;
+using T = float;
+constexpr int D = 3;
+using Position = Vec<T, D>;
+
+constexpr T dx = 1.0f;
+constexpr T h = 1.3f * dx;
+constexpr T cutoff = 2.0f * h;
+
+enum Order { morton = 0, random_order = 1, cell_order = 2 };
+
+// Wendland C2 in 3D, support 2h.
+struct WendlandC2 {
+  T inv_h;
+  T alpha;  // 21 / (16 pi h^3)
+  UNISPH_HOST_DEVICE T operator()(T r) const {
+    const T q = r * inv_h;
+    if (q >= T(2)) return T(0);
+    const T a = T(1) - T(0.5) * q;
+    const T a2 = a * a;
+    return alpha * a2 * a2 * (T(2) * q + T(1));
+  }
+};
+
+class DensitySummation : public InteractionDynamics<DensitySummation> {
+ public:
+  DensitySummation(InnerRelation<T, D>& relation, DiscreteVariable<T>& density, Index count)
+      : relation_(relation), density_(density), count_(count) {}
+
+  struct Kernel {
+    NeighborSearch<T, D> search;
+    View<T> density;
+    WendlandC2 w;
+    T mass;
+    UNISPH_HOST_DEVICE void interaction(Index i, Real) const {
+      T sum = w(T(0));
+      search.for_each_neighbor(i, [&](Index, const NeighborPair<T, D>& pair) { sum += w(pair.distance()); });
+      density[i] = mass * sum;
+    }
+  };
+  Kernel make_kernel(KernelContext& context) {
+    const T pi = T(3.14159265358979);
+    return {relation_.search(context), context.write(density_), WendlandC2{T(1) / h, T(21) / (T(16) * pi * h * h * h)},
+            dx * dx * dx};
+  }
+  Index size() const { return count_; }
+
+ private:
+  InnerRelation<T, D>& relation_;
+  DiscreteVariable<T>& density_;
+  Index count_;
+};
+
+struct CountCandidates {
+  NeighborSearch<T, D> search;
+  UNISPH_HOST_DEVICE std::uint64_t operator()(Index i) const { return search.candidate_count(i); }
+};
+struct CountNeighbors {
+  NeighborSearch<T, D> search;
+  UNISPH_HOST_DEVICE std::uint64_t operator()(Index i) const {
+    std::uint64_t n = 0;
+    search.for_each_direct_neighbor(i, [&](Index, const NeighborPair<T, D>&) { ++n; });
+    return n;
+  }
+};
+struct ReadValue {
+  View<const T> v;
+  UNISPH_HOST_DEVICE double operator()(Index i) const { return double(v[i]); }
+};
+
+Box<T, D> lattice_box(int side) {
+  return {Position::constant(-0.5f * dx), Position::constant((T(side) - 0.5f) * dx)};
+}
+
+// Positions of the jittered lattice in the requested order (cached: shared by every policy).
+const std::vector<Position>& lattice(int side, Order order) {
+  static std::map<std::pair<int, int>, std::vector<Position>> cache;
+  auto key = std::make_pair(side, int(order));
+  if (auto it = cache.find(key); it != cache.end()) return it->second;
+  const Index n = Index(side) * side * side;
+  std::vector<Position> x(n);
+  std::mt19937_64 rng(42);
+  std::uniform_real_distribution<T> jitter(-0.1f * dx, 0.1f * dx);
+  for (Index k = 0; k < n; ++k) {
+    const Index i = k % side, j = (k / side) % side, l = k / (Index(side) * side);
+    x[k] = {{T(i) * dx + jitter(rng), T(j) * dx + jitter(rng), T(l) * dx + jitter(rng)}};
+  }
+  if (order == random_order) {
+    std::shuffle(x.begin(), x.end(), rng);
+  } else {
+    Body<T, D> body("Lattice", lattice_box(side), n);
+    body.positions().assign(x);
+    ParticleSorter<T, D> sorter(body.particles(), body.positions(), SearchGrid<T, D>::make(lattice_box(side), cutoff),
+                                1, order == morton ? SortOrder::morton : SortOrder::cell_index);
+    sorter.sort(par);
+    x = body.positions().to_vector();
+  }
+  // Keep only one large set at a time (10^7 positions are 120 MB).
+  if (n > 5000000)
+    for (auto it = cache.begin(); it != cache.end();)
+      it = Index(it->first.first) * it->first.first * it->first.first > 5000000 ? cache.erase(it) : std::next(it);
+  return cache.emplace(key, std::move(x)).first->second;
+}
+
+int side_for(Index particles) { return int(std::lround(std::cbrt(double(particles)))); }
+
+// Everything one benchmark needs, on one policy.
+template <ExecutionPolicy P>
+struct Case {
+  int side;
+  Index n;
+  Body<T, D> body;
+  CellLinkedList<T, D> cells;
+  InnerRelation<T, D> relation;
+  DiscreteVariable<T> density;
+  DensitySummation summation;
+  std::uint64_t candidates = 0;
+  std::uint64_t neighbors = 0;
+
+  Case(P policy, Index particles, Order order, SearchMethod method)
+      : side(side_for(particles)),
+        n(Index(side) * side * side),
+        body("Lattice", lattice_box(side), n),
+        cells(body.positions(), body.domain(), cutoff),
+        relation(cells, method),
+        density("Density", n),
+        summation(relation, density, n) {
+    body.positions().assign(lattice(side, order));
+    cells.build(policy);
+    const NeighborSearch<T, D> direct = relation.direct_search(policy);
+    candidates = particle_reduce(policy, n, Sum<std::uint64_t>{}, CountCandidates{direct});
+    neighbors = particle_reduce(policy, n, Sum<std::uint64_t>{}, CountNeighbors{direct});
+    relation.update(policy);
+    fence(policy);
+  }
+};
+
+void report(benchmark::State& state, Index n, double candidates, double neighbors) {
+  using benchmark::Counter;
+  const double it = double(state.iterations());
+  state.counters["particles"] = double(n);
+  state.counters["particles/s"] = Counter(double(n) * it, Counter::kIsRate);
+  state.counters["candidate_pairs/s"] = Counter(candidates * it, Counter::kIsRate);
+  state.counters["neighbor_pairs/s"] = Counter(neighbors * it, Counter::kIsRate);
+  state.counters["neighbors_per_particle"] = neighbors / double(n);
+  // Inverted rate: seconds per (n / 10^9) particles-passes, i.e. ms per pass per 10^6 particles.
+  state.counters["ms_per_1e6"] = Counter(double(n) * it / 1e9, Counter::kIsRate | Counter::kInvert);
+}
+
+// Device benchmarks skip with the reason where there is no GPU.
+template <class P>
+bool unavailable(benchmark::State& state) {
+  if (P::space == MemorySpace::host || policy_available(PolicyKind::device)) return false;
+  state.SkipWithError(("no GPU: " + execution_info().device_unavailable_reason).c_str());
+  return true;
+}
+
+template <class P>
+void BM_CellListBuild(benchmark::State& state) {
+  const P policy{};
+  if (unavailable<P>(state)) return;
+  Case<P> c(policy, Index(state.range(0)), Order(state.range(1)), SearchMethod::direct);
+  for (auto _ : state) {
+    c.cells.build(policy);
+    fence(policy);
+  }
+  report(state, c.n, double(c.candidates), double(c.neighbors));
+}
+
+template <class P>
+void BM_StoredListBuild(benchmark::State& state) {
+  const P policy{};
+  if (unavailable<P>(state)) return;
+  Case<P> c(policy, Index(state.range(0)), Order(state.range(1)), SearchMethod::stored);
+  for (auto _ : state) {
+    c.relation.update(policy);
+    fence(policy);
+  }
+  report(state, c.n, double(c.candidates), double(c.neighbors));
+}
+
+template <class P, SearchMethod M>
+void BM_DensityPass(benchmark::State& state) {
+  const P policy{};
+  if (unavailable<P>(state)) return;
+  Case<P> c(policy, Index(state.range(0)), Order(state.range(1)), M);
+  c.summation.exec(policy);  // builds the kernel
+  fence(policy);
+  for (auto _ : state) {
+    c.summation.exec(policy);
+    fence(policy);
+  }
+  report(state, c.n, double(c.candidates), double(c.neighbors));
+  state.counters["mean_density"] =
+      particle_reduce(policy, c.n, Sum<double>{}, ReadValue{c.density.read(policy)}) / double(c.n);
+}
+
+template <class P>
+void BM_MortonSort(benchmark::State& state) {
+  const P policy{};
+  if (unavailable<P>(state)) return;
+  const int side = side_for(Index(state.range(0)));
+  const Index n = Index(side) * side * side;
+  Body<T, D> body("Lattice", lattice_box(side), n);
+  body.particles().add_variable<Vec<T, D>>("Velocity", sortable_variable);
+  body.particles().add_variable<T>("Density", sortable_variable);
+  ParticleSorter<T, D> sorter(body.particles(), body.positions(), SearchGrid<T, D>::make(lattice_box(side), cutoff));
+  for (auto _ : state) {
+    state.PauseTiming();
+    body.positions().assign(lattice(side, random_order));
+    body.positions().read(policy);  // the copy to the device is not part of the sort
+    fence(policy);
+    state.ResumeTiming();
+    sorter.sort(policy);
+    fence(policy);
+  }
+  state.counters["particles"] = double(n);
+  state.counters["particles/s"] = benchmark::Counter(double(n) * double(state.iterations()), benchmark::Counter::kIsRate);
+}
+
+// order: 0 Morton, 1 random, 2 cell order. Host policies: 10^6 everywhere, 10^7 on par;
+// the device: 10^6, 4 x 10^6 and 10^7.
+template <class P>
+void host_sizes(benchmark::internal::Benchmark* b) {
+  for (int order : {morton, random_order, cell_order}) {
+    b->Args({1000000, order});
+    if (std::is_same_v<P, ParallelPolicy>) b->Args({10000000, order});
+  }
+  b->ArgNames({"n", "order"})->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
+}
+void device_sizes(benchmark::internal::Benchmark* b) {
+  for (int order : {morton, random_order, cell_order})
+    for (int n : {1000000, 4000000, 10000000}) b->Args({n, order});
+  b->ArgNames({"n", "order"})->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(0.2);
+}
+
+#define UNISPH_NEIGHBOR_BENCHMARKS(P, SIZES)                                                 \
+  BENCHMARK_TEMPLATE(BM_CellListBuild, P)->Apply(SIZES);                                     \
+  BENCHMARK_TEMPLATE(BM_DensityPass, P, SearchMethod::direct)->Apply(SIZES);                 \
+  BENCHMARK_TEMPLATE(BM_DensityPass, P, SearchMethod::stored)->Apply(SIZES);                 \
+  BENCHMARK_TEMPLATE(BM_StoredListBuild, P)->Apply(SIZES);                                   \
+  BENCHMARK_TEMPLATE(BM_MortonSort, P)->Arg(1000000)->Arg(10000000)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
+
+UNISPH_NEIGHBOR_BENCHMARKS(SequencedPolicy, host_sizes<SequencedPolicy>)
+UNISPH_NEIGHBOR_BENCHMARKS(ParallelPolicy, host_sizes<ParallelPolicy>)
+#if UNISPH_HAS_CUDA
+UNISPH_NEIGHBOR_BENCHMARKS(ParallelDevicePolicy, device_sizes)
+#endif
+
+}  // namespace
+
+// Device benchmarks skip (with the reason) where no GPU is present.
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  if (!policy_available(PolicyKind::device))
+    benchmark::AddCustomContext("device", "absent: " + execution_info().device_unavailable_reason);
+  else
+    benchmark::AddCustomContext("device", execution_info().device_name);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
