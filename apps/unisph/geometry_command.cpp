@@ -1,5 +1,6 @@
-// `unisph geometry FILE`: what was read from an STL file, what repairing it did, and the
-// enclosed volume; a broken file gives its one-line error and a non-zero exit code (main.cpp).
+// `unisph geometry FILE`: what was read from an STL file (or a .poly polygon file), what
+// repairing it did, and the enclosed volume (area); a broken file gives its one-line error and
+// a non-zero exit code (main.cpp).
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -7,6 +8,7 @@
 #include "commands.hpp"
 #include "unisph/exec/algorithms.hpp"
 #include "unisph/geometry/mesh_repair.hpp"
+#include "unisph/geometry/polygon_reader.hpp"
 #include "unisph/geometry/triangle_mesh_search.hpp"
 
 namespace unisph::app {
@@ -82,19 +84,49 @@ void print_report(const LoadedMesh& loaded, const GeometryOptions& options) {
   }
 }
 
+void print_polygon_report(const LoadedPolygons& loaded, const GeometryOptions& options) {
+  const PolygonReport& r = loaded.report;
+  std::printf("%s: polygon file, %zu loops, %zu edges\n", options.file.c_str(), r.loops, loaded.polygons.edges());
+  std::printf("  removed vertices     %zu repeated\n", r.repeated_vertices_removed);
+  if (loaded.polygons.empty()) {
+    std::printf("  the file has no loops: no box or area\n");
+    return;
+  }
+  std::printf("  bounding box         [%.9g, %.9g] .. [%.9g, %.9g]\n", r.box_min[0], r.box_min[1], r.box_max[0],
+              r.box_max[1]);
+  std::size_t holes = 0;
+  for (int depth : r.depth) holes += depth % 2;
+  std::printf("  loops                %zu outer, %zu holes (by nesting)\n", r.loops - holes, holes);
+  std::printf("  turned               ");
+  if (r.loops_turned.empty()) std::printf("none");
+  for (std::size_t i = 0; i < r.loops_turned.size(); ++i) std::printf("%sloop %zu", i ? ", " : "", r.loops_turned[i]);
+  std::printf("\n  area                 %.9g\n", r.area);
+}
+
+bool is_polygon_file(const std::string& file) {
+  return file.size() >= 5 && file.compare(file.size() - 5, 5, ".poly") == 0;
+}
+
 }  // namespace
 
 void add_geometry_command(CLI::App& app) {
   auto options = std::make_shared<GeometryOptions>();
   CLI::App* command = app.add_subcommand(
-      "geometry", "read an STL file and print what was read and repaired, whether it is closed, and its volume");
-  command->add_option("file", options->file, "the STL file (binary or ASCII)")->required();
+      "geometry", "read an STL file (or a .poly polygon file) and print what was read and repaired, whether it is "
+                  "closed, and its volume (area)");
+  command->add_option("file", options->file, "the STL file (binary or ASCII), or closed polygons in a .poly text file")
+      ->required();
   command->add_option("--resolution", options->resolution,
                       "grid cells per axis for the volume of a mesh that is not closed (by the winding number)")
       ->check(CLI::Range(4, 2048))
       ->capture_default_str();
   add_execution_options(*command, options->execution);
-  command->callback([options] { print_report(load_triangle_mesh(options->file), *options); });
+  command->callback([options] {
+    if (is_polygon_file(options->file))
+      print_polygon_report(read_polygons(options->file), *options);
+    else
+      print_report(load_triangle_mesh(options->file), *options);
+  });
 }
 
 }  // namespace unisph::app
