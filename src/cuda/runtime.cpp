@@ -154,6 +154,16 @@ void* scratch(std::size_t bytes, std::string_view what) {
   return s.ptr;
 }
 
+void* pinned_result_buffer() {
+  static void* buffer = [] {
+    require_device();
+    void* p = nullptr;
+    check(cudaHostAlloc(&p, pinned_result_bytes, cudaHostAllocMapped), "cudaHostAlloc of the reduction result buffer");
+    return p;
+  }();
+  return buffer;
+}
+
 #else  // no CUDA backend in this build
 
 void describe_device(ExecutionInfo& info) {
@@ -167,6 +177,7 @@ void describe_device(ExecutionInfo& info) {
 void check(int, std::string_view) {}
 void check_launch(std::string_view, std::size_t) {}
 void* stream_handle() { unavailable(); }
+void* pinned_result_buffer() { unavailable(); }
 int multiprocessor_count() { unavailable(); }
 void* allocate(std::size_t, std::string_view) { unavailable(); }
 void deallocate(void*) noexcept {}

@@ -74,15 +74,17 @@ struct Backend<ParallelDevicePolicy> {
     const Index wave = static_cast<Index>(cuda::multiprocessor_count()) * 8;
     const Index needed = (n + cuda_detail::block_size - 1) / cuda_detail::block_size;
     const int blocks = static_cast<int>(needed < wave ? needed : wave);
-    T* partials = static_cast<T*>(cuda::scratch(sizeof(T) * (blocks + 1), "particle_reduce"));
-    T* result = partials + blocks;
+    static_assert(sizeof(T) <= cuda::pinned_result_bytes,
+                  "particle_reduce on the device returns values of at most 256 bytes.");
+    T* partials = static_cast<T*>(cuda::scratch(sizeof(T) * blocks, "particle_reduce"));
+    // Mapped pinned memory: the final pass writes the result straight into host memory.
+    T* result = static_cast<T*>(cuda::pinned_result_buffer());
     cuda_detail::reduce_blocks<<<blocks, cuda_detail::block_size, 0, cuda_detail::stream()>>>(n, identity, op, f, partials);
     cuda::check_launch("particle_reduce", n);
     cuda_detail::reduce_partials<<<1, cuda_detail::block_size, 0, cuda_detail::stream()>>>(blocks, identity, op, partials, result);
     cuda::check_launch("particle_reduce (final pass)", static_cast<Index>(blocks));
-    T value;
-    cuda::copy_to_host(&value, result, sizeof(T), "the result of particle_reduce");
-    return value;
+    cuda::synchronize("particle_reduce");
+    return *result;
   }
 
   template <class T>

@@ -45,6 +45,12 @@ void synchronize(std::string_view what);
 // one algorithm's use from overlapping the next one's.
 void* scratch(std::size_t bytes, std::string_view what);
 
+// 256 bytes of pinned host memory that device kernels can write directly (mapped): a
+// reduction's final pass writes its result there, so returning it costs one stream
+// synchronisation and no copy.
+void* pinned_result_buffer();
+inline constexpr std::size_t pinned_result_bytes = 256;
+
 // Throws DeviceError for a failed CUDA call: "<what>: <CUDA error name>: <description>".
 void check(int cuda_error_code, std::string_view what);
 // Checks the launch that just happened (cudaGetLastError, no waiting).
