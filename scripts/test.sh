@@ -3,6 +3,7 @@
 #   1. the default preset (CUDA backend compiled where nvcc is found; GPU tests skip without a GPU)
 #   2. the asan preset (AddressSanitizer + UndefinedBehaviorSanitizer, CPU, single precision)
 #   3. install, and build + run a downstream project against the installed tree (find_package)
+#   4. the libFuzzer targets, briefly (UNISPH_FUZZ_SECONDS each, default 60)
 # Prints the time of each stage.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -38,5 +39,8 @@ cmake --install build/default --prefix build/default/install >/dev/null
 cmake -S tests/consumer -B build/consumer -G Ninja -DCMAKE_PREFIX_PATH="$PWD/build/default/install"
 cmake --build build/consumer
 build/consumer/consumer
+
+stage "fuzz the STL reader for ${UNISPH_FUZZ_SECONDS:-60} s"
+scripts/fuzz_stl.sh "${UNISPH_FUZZ_SECONDS:-60}"
 
 stage "done"
