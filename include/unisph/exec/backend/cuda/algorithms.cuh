@@ -18,11 +18,14 @@ inline constexpr int block_size = 256;
 
 inline cudaStream_t stream() { return static_cast<cudaStream_t>(cuda::stream_handle()); }
 
+// One item per thread; the loop only turns when n exceeds the largest grid (2^31 - 1 blocks).
 template <class F>
 __global__ void __launch_bounds__(block_size) particle_for_kernel(Index n, F f) {
-  const Index i = static_cast<Index>(blockIdx.x) * block_size + threadIdx.x;
-  if (i < n) f(i);
+  const Index stride = static_cast<Index>(gridDim.x) * block_size;
+  for (Index i = static_cast<Index>(blockIdx.x) * block_size + threadIdx.x; i < n; i += stride) f(i);
 }
+
+inline constexpr Index max_blocks = 2147483647;
 
 // First pass: each block reduces a grid-stride slice. Four independent items per trip keep
 // several loads in flight per thread (the reduction is bound by memory bandwidth).
@@ -61,7 +64,8 @@ struct Backend<ParallelDevicePolicy> {
   static void particle_for(Index n, const F& f) {
     cuda::require_device();
     if (n == 0) return;
-    const Index blocks = (n + cuda_detail::block_size - 1) / cuda_detail::block_size;
+    Index blocks = (n + cuda_detail::block_size - 1) / cuda_detail::block_size;
+    if (blocks > cuda_detail::max_blocks) blocks = cuda_detail::max_blocks;
     cuda_detail::particle_for_kernel<<<static_cast<unsigned>(blocks), cuda_detail::block_size, 0, cuda_detail::stream()>>>(n, f);
     cuda::check_launch("particle_for", n);
   }
