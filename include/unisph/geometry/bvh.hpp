@@ -36,8 +36,9 @@ struct BvhLayout {
   std::vector<std::uint32_t> order;  // order[k]: input index of the k-th primitive in BVH order
 };
 
-// Builds the hierarchy by splitting at the median centroid along the longest axis, down to
-// `leaf_size` primitives per leaf (deeper than bvh_max_depth never happens below 2^40 primitives).
+// Builds the hierarchy top down by the surface area heuristic (16 bins of centroids per axis;
+// the median along the longest axis where centroids coincide), down to `leaf_size` primitives
+// per leaf. A branch that reaches bvh_max_depth ends in one larger leaf.
 template <int D>
 BvhLayout<D> build_bvh(std::span<const Vec<double, D>> primitive_lo, std::span<const Vec<double, D>> primitive_hi,
                        int leaf_size = 4);
