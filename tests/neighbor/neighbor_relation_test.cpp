@@ -162,6 +162,27 @@ void check_layouts(P policy) {
 
 UNISPH_POLICY_TEST_SUITE(NeighborRelation);
 
+TYPED_TEST(NeighborRelation, StoredListsMustBeUpdatedAfterEachBuild) {
+  const auto policy = this->policy;
+  const Scenario<double, 3> s = make_scenario<double, 3>(Layout::random);
+  DiscreteVariable<Vec<double, 3>> x("Position");
+  x.assign(s.positions);
+  CellLinkedList<double, 3> cells(x, s.box, s.cutoff);
+  cells.build(policy);
+  InnerRelation<double, 3> inner(cells, SearchMethod::stored);
+  EXPECT_THROW(inner.search(policy), Error);  // never updated
+  inner.update(policy);
+  EXPECT_NO_THROW(inner.search(policy));
+  cells.build(policy);
+  EXPECT_THROW(inner.search(policy), Error);  // the particles may have moved since
+  inner.update(policy);
+  EXPECT_NO_THROW(inner.search(policy));
+  const SearchMethod expected_default =
+      decltype(policy)::space == MemorySpace::device ? SearchMethod::direct : SearchMethod::stored;
+  InnerRelation<double, 3> automatic(cells);
+  EXPECT_EQ(automatic.method(policy), expected_default);
+}
+
 TYPED_TEST(NeighborRelation, MatchesBruteForce2DFloat) { check_layouts<float, 2>(this->policy); }
 TYPED_TEST(NeighborRelation, MatchesBruteForce2DDouble) { check_layouts<double, 2>(this->policy); }
 TYPED_TEST(NeighborRelation, MatchesBruteForce3DFloat) { check_layouts<float, 3>(this->policy); }

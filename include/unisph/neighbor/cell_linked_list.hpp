@@ -171,7 +171,11 @@ class CellLinkedList {
                  cell_list_detail::FillCells{bucket_of_.read(policy), slot_of_.read(policy), offsets,
                                              particles_.write(policy)});
     built_count_ = n;
+    ++builds_;
   }
+
+  // How many times build() ran: relations compare it to tell stale stored lists.
+  std::uint64_t builds() const { return builds_; }
 
   // The counts of the last build (waits for it on the device; copies four numbers).
   CellListReport report() {
@@ -202,6 +206,7 @@ class CellLinkedList {
   DiscreteVariable<std::uint32_t> slot_of_;
   DiscreteVariable<unsigned long long> counters_;
   Index built_count_ = 0;
+  std::uint64_t builds_ = 0;
 };
 
 }  // namespace unisph

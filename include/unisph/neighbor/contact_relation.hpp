@@ -9,6 +9,7 @@
 //   wall_cells.build(policy); fluid_wall.update(policy);
 //   fluid_wall.search(context).for_each_neighbor(i, ...)   // j indexes the wall's particles
 
+#include <cstdint>
 #include <string>
 
 #include "unisph/dynamics/kernel_context.hpp"
@@ -38,7 +39,10 @@ class ContactRelation {
   // Call after the target cell list was built and before the kernels that use search().
   template <ExecutionPolicy P>
   void update(P policy) {
-    if (method(policy) == SearchMethod::stored) lists_.build(policy, direct_search(policy), source_count());
+    if (method(policy) == SearchMethod::stored) {
+      lists_.build(policy, direct_search(policy), source_count());
+      lists_built_from_ = targets_.builds();
+    }
   }
 
   template <ExecutionPolicy P>
@@ -76,10 +80,10 @@ class ContactRelation {
   static constexpr Index unset = ~Index(0);
 
   void check_lists() {
-    if (lists_.offsets().size() != source_count() + 1)
+    if (lists_.offsets().size() != source_count() + 1 || lists_built_from_ != targets_.builds())
       throw Error("ContactRelation of '" + sources_.name() + "' with '" + targets_.positions().name() +
-                  "': stored neighbour lists are used but update(policy) was not called since the particle count "
-                  "changed");
+                  "': stored neighbour lists are used but update(policy) was not called after the last build of "
+                  "the cell list");
   }
 
   DiscreteVariable<Vec<T, D>>& sources_;
@@ -87,6 +91,7 @@ class ContactRelation {
   SearchMethod method_;
   StoredNeighborLists<T, D> lists_;
   Index source_count_ = unset;
+  std::uint64_t lists_built_from_ = ~std::uint64_t(0);
 };
 
 }  // namespace unisph

@@ -10,6 +10,7 @@
 // update() builds the stored lists when the method for the policy is SearchMethod::stored;
 // for direct search it does nothing (the cell list is all a direct search needs).
 
+#include <cstdint>
 #include <string>
 
 #include "unisph/dynamics/kernel_context.hpp"
@@ -38,6 +39,7 @@ class InnerRelation {
   void update(P policy) {
     if (method(policy) == SearchMethod::stored) {
       lists_.build(policy, direct_search(policy), source_count());
+      lists_built_from_ = cells_.builds();
     }
   }
 
@@ -76,16 +78,17 @@ class InnerRelation {
   static constexpr Index unset = ~Index(0);
 
   void check_lists() {
-    if (lists_.offsets().size() != source_count() + 1)
+    if (lists_.offsets().size() != source_count() + 1 || lists_built_from_ != cells_.builds())
       throw Error("InnerRelation of '" + cells_.positions().name() +
-                  "': stored neighbour lists are used but update(policy) was not called since the particle count "
-                  "changed");
+                  "': stored neighbour lists are used but update(policy) was not called after the last build of "
+                  "the cell list");
   }
 
   CellLinkedList<T, D>& cells_;
   SearchMethod method_;
   StoredNeighborLists<T, D> lists_;
   Index source_count_ = unset;
+  std::uint64_t lists_built_from_ = ~std::uint64_t(0);
 };
 
 }  // namespace unisph

@@ -12,12 +12,18 @@ enum class SearchMethod {
   stored,     // walk CSR lists of j built by a direct search at update()
 };
 
-// Device: direct search (stored lists cost 4 bytes per pair of device memory, and their
-// build is itself a direct search). Host: direct search as well. Both measured on the density
-// pass of bench/neighbor (docs/neighbor_search.md has the figures and the reasoning).
+// The defaults come from the density pass of bench/neighbor (docs/neighbor_search.md), with
+// the lists rebuilt whenever the cell list is, i.e. every step in SPH:
+//   device: direct search. A stored-list pass is faster than a direct one, but building the
+//           lists costs several direct passes (they are built by one), so stored lists pay
+//           off only beyond ~9 neighbour passes per rebuild; they also take 4 bytes per pair
+//           of device memory (3 GB at 10^7 particles).
+//   host:   stored lists. On the CPU a stored-list pass is several times faster than a
+//           direct one and the build costs about 1.5 direct passes, so two or more
+//           neighbour passes per rebuild (density, forces, ...) already favour them.
 template <ExecutionPolicy P>
 constexpr SearchMethod default_search_method(P) {
-  return SearchMethod::direct;
+  return P::space == MemorySpace::device ? SearchMethod::direct : SearchMethod::stored;
 }
 
 template <ExecutionPolicy P>
