@@ -165,7 +165,10 @@ TYPED_TEST(TriangleMeshSearchTest, PseudonormalSignAgreesWithWindingNumberOnClos
     for (std::size_t i = 0; i < points.size(); ++i) {
       const Real exact = host.exact_winding_number(points[i]);
       const bool inside = exact > Real(0.5);
-      ASSERT_LT(std::abs(exact - Real(inside ? 1 : 0)), Real(1e-6)) << file << ": a closed mesh has integer winding numbers";
+      // Summed over thousands of triangles: round-off of ~1e-12 in double; in float up to ~3e-3
+      // where a point is close to the surface (large, cancelling solid angles).
+      const Real tolerance = Real(sizeof(Real) == 8 ? 1e-6 : 0.05);
+      ASSERT_LT(std::abs(exact - Real(inside ? 1 : 0)), tolerance) << file << ": a closed mesh has integer winding numbers";
       wrong_sign += (got.sign[i] < 0) != inside;
       wrong_fast_winding += (got.winding[i] > Real(0.5)) != inside;
     }
