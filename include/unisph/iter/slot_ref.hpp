@@ -1,0 +1,41 @@
+#pragma once
+// What dereferencing a view's iterator gives: one slot of a container, which may be empty
+// (the free slots of a partly filled last frame, or a position past the end that a thread of
+// a collective traversal visits so that every thread makes the same number of trips). The
+// iterator cannot simply skip such slots: the element after an empty slot may be valid, and
+// a collective traversal must keep its threads in step.
+//
+//   auto wrapper = *it;
+//   if (wrapper) use(*wrapper);
+
+#include <type_traits>
+
+#include "unisph/core/config.hpp"
+
+namespace unisph::iter {
+
+template <class T>
+class SlotRef {
+ public:
+  using element_type = T;
+
+  SlotRef() = default;
+  UNISPH_HOST_DEVICE constexpr explicit SlotRef(T* element) : element_(element) {}
+
+  // True when the slot holds an element.
+  UNISPH_HOST_DEVICE constexpr explicit operator bool() const { return element_ != nullptr; }
+  UNISPH_HOST_DEVICE constexpr bool valid() const { return element_ != nullptr; }
+  // The element; only for a valid slot.
+  UNISPH_HOST_DEVICE constexpr T& operator*() const { return *element_; }
+  UNISPH_HOST_DEVICE constexpr T* operator->() const { return element_; }
+  UNISPH_HOST_DEVICE constexpr T* get() const { return element_; }
+
+  friend UNISPH_HOST_DEVICE constexpr bool operator==(SlotRef a, SlotRef b) { return a.element_ == b.element_; }
+
+ private:
+  T* element_ = nullptr;
+};
+
+static_assert(std::is_trivially_copyable_v<SlotRef<int>>);
+
+}  // namespace unisph::iter

@@ -1,0 +1,302 @@
+#pragma once
+// iter::View<Container, Direction, Collectivity, Runtime, Child>: begin() and end() over one
+// level of a hierarchical container, and through Child over the levels below it (seed 002,
+// "Parallel Particle Iterators"). One algorithm written against views runs over every container
+// that has ContainerTraits (frames, supercells, containers of supercells, ...), in host code,
+// in device code, forward or backward, and shared by several threads.
+//
+// Not to be confused with unisph::View<T> (memory/view.hpp), the flat pointer + size that
+// variables hand out. An iter::View holds such pointers too (inside its container's handle),
+// and walks the structure they describe.
+//
+//   using ParticlesOfFrame = View<Frame<P, 5>, direction::Forward, collectivity::None, RuntimeTuple>;
+//   View<Supercell<Frame<P, 5>>, direction::Forward, collectivity::None, RuntimeTuple, ParticlesOfFrame>
+//       particles(supercell, RuntimeTuple{0, all, 1}, ParticlesOfFrame(nullptr, RuntimeTuple{0, all, 1}));
+//   for (auto it = particles.begin(); it != particles.end(); ++it)
+//     if (auto slot = *it) use(*slot);        // the free slots of the last frame are invalid
+//
+// Which positions a level visits. C is the element count (the container's own for a frame,
+// whose number of slots is a compile-time trait; the runtime count clipped to the container's
+// size otherwise), o the offset, j the jump, counted in walking order (Backward starts at
+// the last element). With a collectivity of size S, worker r uses o' = o + r j and j' = S j.
+// The worker makes trips = ceil(C / j') - floor(o' / j') trips and visits o', o' + j', ...;
+// positions at or past C are padding and dereference to an invalid SlotRef. For every
+// offset below the jump the number of trips is the same, ceil(C / j'), so workers that differ
+// only in their offset (r, or o = thread id with j = thread count as in the seed) stay in
+// step and may meet at a barrier inside the loop.
+//
+// With a Child, the view yields the child's slots: for each trip of this level it walks the
+// child view (a prototype built with nullptr instead of a container) over that element. A
+// padding position gives the child an empty container: a frame of N empty slots (so that
+// nested collective walks keep their trip counts equal), a supercell with no frames.
+
+#include <cstddef>
+#include <iterator>
+#include <ranges>
+#include <type_traits>
+
+#include "unisph/core/config.hpp"
+#include "unisph/iter/collectivity.hpp"
+#include "unisph/iter/container_traits.hpp"
+#include "unisph/iter/direction.hpp"
+#include "unisph/iter/runtime.hpp"
+#include "unisph/iter/slot_ref.hpp"
+
+namespace unisph::iter {
+
+// The Child of a view with no level below it.
+struct NoChild {};
+
+template <class Container, class Direction = direction::Forward, class Collectivity = collectivity::None,
+          class Runtime = RuntimeTuple, class Child = NoChild>
+class View;
+
+namespace detail {
+
+template <class V>
+struct is_iter_view : std::false_type {};
+template <class C, class D, class K, class R, class Ch>
+struct is_iter_view<View<C, D, K, R, Ch>> : std::true_type {};
+
+template <class Child>
+struct child_types {
+  using iterator = NoChild;
+};
+template <class C, class D, class K, class R, class Ch>
+struct child_types<View<C, D, K, R, Ch>> {
+  using iterator = typename View<C, D, K, R, Ch>::iterator;
+};
+
+template <class Container, class Child>
+constexpr bool check_child() {
+  if constexpr (!std::is_same_v<Child, NoChild>) {
+    static_assert(is_iter_view<Child>::value,
+                  "iter::View: the Child parameter must be another iter::View (the view one level down, e.g. the "
+                  "particles of a frame under the frames of a supercell) or iter::NoChild.");
+    if constexpr (is_iter_view<Child>::value) {
+      static_assert(ContainerWithChildren<Container>,
+                    "iter::View: this container has no level below it (its ContainerTraits have no child()), so its "
+                    "view cannot have a Child view; use iter::NoChild.");
+      if constexpr (ContainerWithChildren<Container>) {
+        static_assert(std::is_same_v<typename ContainerTraits<Container>::ChildContainer, typename Child::container_type>,
+                      "iter::View: the Child view must walk the containers one level down (ContainerTraits<Container>"
+                      "::ChildContainer, e.g. the supercell's frame type, const where the supercell's frames are const).");
+      }
+    }
+  }
+  return true;
+}
+
+// Where the walk of one level stands: the positions this worker visits and the cursor at the
+// current one.
+template <class Container, bool Forward>
+struct LevelWalk {
+  using Traits = ContainerTraits<Container>;
+  typename Traits::Handle handle{};
+  typename Traits::Cursor cursor{};
+  Index position = 0;      // in walking order
+  Index end_position = 0;  // the position after the last trip
+  Index jump = 1;
+  Index count = 0;  // positions below count may hold elements, the others are padding
+
+  UNISPH_HOST_DEVICE constexpr bool at_end() const { return position == end_position; }
+  UNISPH_HOST_DEVICE constexpr bool holds_element() const {
+    return position < count && Traits::holds_element(handle, cursor);
+  }
+  UNISPH_HOST_DEVICE constexpr void advance() {
+    position += jump;
+    if (position < count) cursor = Traits::step(handle, cursor, jump, Forward);
+  }
+};
+
+}  // namespace detail
+
+template <class Container, class Direction, class Collectivity, class Runtime, class Child>
+class View : public std::ranges::view_base {
+  static_assert(HasContainerTraits<Container>,
+                "iter::View<Container, ...>: there is no ContainerTraits<Container>, so the view does not know how to "
+                "walk this container; specialise unisph::iter::ContainerTraits for it (see iter/container_traits.hpp).");
+  static_assert(!HasContainerTraits<Container> || ViewableContainer<Container>,
+                "iter::View<Container, ...>: ContainerTraits<Container> must define Handle, Component, Cursor, "
+                "needs_runtime_size and empty_handle() (see iter/container_traits.hpp).");
+  static_assert(direction::is_direction_v<Direction>,
+                "iter::View: Direction must be iter::direction::Forward or iter::direction::Backward.");
+  static_assert(collectivity::Collectivity<Collectivity>,
+                "iter::View: Collectivity must say who shares the walk (rank(), size(), sync(), is_mover()) and be "
+                "trivially copyable: iter::collectivity::None, HostTeam or DeviceBlock.");
+  static_assert(RuntimeVariables<Runtime>,
+                "iter::View: Runtime must give get_offset(), get_element_count() and get_jump() and be trivially "
+                "copyable: iter::RuntimeTuple (run-time values) or iter::CompileTimeTuple<offset, count, jump>.");
+  static_assert(detail::check_child<Container, Child>());
+
+  using Traits = ContainerTraits<Container>;
+  static constexpr bool has_child = !std::is_same_v<Child, NoChild>;
+  static constexpr bool forward = Direction::is_forward;
+  using Walk = detail::LevelWalk<Container, forward>;
+  using ChildIterator = typename detail::child_types<Child>::iterator;
+
+  template <class V>
+  struct slot_of {
+    using type = typename V::slot_type;
+  };
+  template <class Unused>
+  struct slot_of_leaf {
+    using type = SlotRef<typename ContainerTraits<Container>::Component>;
+  };
+
+ public:
+  using container_type = Container;
+  using handle_type = typename Traits::Handle;
+  using direction_type = Direction;
+  using collectivity_type = Collectivity;
+  using runtime_type = Runtime;
+  using child_type = Child;
+  // What dereferencing an iterator gives: a slot of the lowest level.
+  using slot_type =
+      typename std::conditional_t<has_child, slot_of<Child>, slot_of_leaf<Container>>::type;
+
+  class iterator {
+   public:
+    using value_type = slot_type;
+    using reference = slot_type;
+    using difference_type = std::ptrdiff_t;
+    using iterator_concept = std::forward_iterator_tag;
+    using iterator_category = std::input_iterator_tag;  // dereferencing yields a value, not a reference
+
+    iterator() = default;
+
+    UNISPH_HOST_DEVICE constexpr slot_type operator*() const {
+      if constexpr (has_child)
+        return *child_;
+      else
+        return walk_.holds_element() ? slot_type(&Traits::element(walk_.handle, walk_.cursor)) : slot_type();
+    }
+    UNISPH_HOST_DEVICE constexpr iterator& operator++() {
+      if constexpr (has_child) {
+        ++child_;
+        if (child_.at_end()) {
+          walk_.advance();
+          descend();
+        }
+      } else {
+        walk_.advance();
+      }
+      return *this;
+    }
+    UNISPH_HOST_DEVICE constexpr iterator operator++(int) {
+      iterator before = *this;
+      ++*this;
+      return before;
+    }
+    UNISPH_HOST_DEVICE constexpr bool at_end() const { return walk_.at_end(); }
+
+    // Iterators of the same view compare by where they stand.
+    friend UNISPH_HOST_DEVICE constexpr bool operator==(const iterator& a, const iterator& b) {
+      if (a.at_end() || b.at_end()) return a.at_end() == b.at_end();
+      if constexpr (has_child)
+        return a.walk_.position == b.walk_.position && a.child_ == b.child_;
+      else
+        return a.walk_.position == b.walk_.position;
+    }
+    friend UNISPH_HOST_DEVICE constexpr bool operator==(const iterator& a, std::default_sentinel_t) {
+      return a.at_end();
+    }
+
+   private:
+    friend class View;
+
+    // Moves to the first trip of this level, from here on, whose child walk is not empty.
+    UNISPH_HOST_DEVICE constexpr void descend() {
+      if constexpr (has_child) {
+        using ChildTraits = ContainerTraits<typename Child::container_type>;
+        for (; !walk_.at_end(); walk_.advance()) {
+          child_ = child_prototype_
+                       .rebind(walk_.holds_element() ? Traits::child(walk_.handle, walk_.cursor)
+                                                     : ChildTraits::empty_handle())
+                       .begin();
+          if (!child_.at_end()) return;
+        }
+      }
+    }
+
+    Walk walk_{};
+    [[no_unique_address]] std::conditional_t<has_child, Child, NoChild> child_prototype_{};
+    [[no_unique_address]] std::conditional_t<has_child, ChildIterator, NoChild> child_{};
+  };
+
+  View() = default;
+  // A view of `container` (anything that converts to its handle: a Frame&, a Supercell, ...).
+  UNISPH_HOST_DEVICE constexpr View(const handle_type& container, Runtime runtime = Runtime{}, Child child = Child{},
+                                    Collectivity group = Collectivity{})
+      : handle_(container), runtime_(runtime), child_(child), group_(group) {}
+  // A view without a container yet: the prototype of a Child level, which the parent view
+  // points at each of its elements in turn (the seed writes PartInFrame(nullptr, runtime)).
+  UNISPH_HOST_DEVICE constexpr View(std::nullptr_t, Runtime runtime = Runtime{}, Child child = Child{},
+                                    Collectivity group = Collectivity{})
+      : handle_(Traits::empty_handle()), runtime_(runtime), child_(child), group_(group) {}
+
+  // The same view over another container of the same type.
+  UNISPH_HOST_DEVICE constexpr View rebind(const handle_type& container) const {
+    View other = *this;
+    other.handle_ = container;
+    return other;
+  }
+
+  UNISPH_HOST_DEVICE constexpr iterator begin() const {
+    iterator it;
+    it.walk_ = start();
+    if constexpr (has_child) {
+      it.child_prototype_ = child_;
+      it.descend();
+    }
+    return it;
+  }
+  UNISPH_HOST_DEVICE constexpr std::default_sentinel_t end() const { return {}; }
+
+  // The number of positions of this level the view considers (C above).
+  UNISPH_HOST_DEVICE constexpr Index element_count() const {
+    if constexpr (Traits::needs_runtime_size) {
+      const Index size = Traits::size(handle_);
+      const Index wanted = runtime_.get_element_count();
+      return wanted < size ? wanted : size;
+    } else {
+      return Traits::number_of_elements;
+    }
+  }
+  // The trips this worker makes at this level (the same for every worker of its group).
+  UNISPH_HOST_DEVICE constexpr Index trips() const {
+    const Walk walk = start();
+    return walk.jump == 0 ? 0 : (walk.end_position - walk.position) / walk.jump;
+  }
+
+  UNISPH_HOST_DEVICE constexpr const handle_type& container() const { return handle_; }
+  UNISPH_HOST_DEVICE constexpr const Runtime& runtime() const { return runtime_; }
+  UNISPH_HOST_DEVICE constexpr const Child& child() const { return child_; }
+  UNISPH_HOST_DEVICE constexpr const Collectivity& collectivity() const { return group_; }
+
+ private:
+  UNISPH_HOST_DEVICE constexpr Walk start() const {
+    Walk walk;
+    walk.handle = handle_;
+    walk.count = element_count();
+    walk.jump = runtime_.get_jump() * group_.size();
+    const Index offset = runtime_.get_offset() + group_.rank() * runtime_.get_jump();
+    Index trips = 0;
+    if (walk.jump > 0) {
+      const Index rounds = (walk.count + walk.jump - 1) / walk.jump;  // ceil(C / j')
+      const Index skipped = offset / walk.jump;                       // floor(o' / j')
+      trips = skipped < rounds ? rounds - skipped : 0;
+    }
+    walk.position = offset;
+    walk.end_position = offset + trips * walk.jump;
+    if (offset < walk.count) walk.cursor = Traits::start(handle_, offset, forward);
+    return walk;
+  }
+
+  handle_type handle_{};
+  [[no_unique_address]] Runtime runtime_{};
+  [[no_unique_address]] Child child_{};
+  [[no_unique_address]] Collectivity group_{};
+};
+
+}  // namespace unisph::iter
