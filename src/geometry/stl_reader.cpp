@@ -112,7 +112,9 @@ class AsciiTokens {
                         printable(word) + "'");
     }
   }
-  double number(const char* what) {
+  // A number; non-finite values are refused unless `finite_only` is false (stored normals, which
+  // exporters write as nan for degenerate facets and which are ignored anyway).
+  double number(const char* what, bool finite_only = true) {
     const std::size_t line = line_after_space();
     const std::string_view word = next(what);
     double value = 0;
@@ -125,7 +127,7 @@ class AsciiTokens {
     if (error != std::errc() || end != digits.data() + digits.size())
       fail(source_, "ASCII STL line " + std::to_string(line) + ": expected a number (" + what + "), found '" +
                         printable(word) + "'");
-    if (!std::isfinite(value))
+    if (finite_only && !std::isfinite(value))
       fail(source_, "ASCII STL line " + std::to_string(line) + ": non-finite " + what + " '" + printable(word) + "'");
     return value;
   }
@@ -183,7 +185,7 @@ StlFacets parse_ascii(std::span<const unsigned char> bytes, const std::string& s
         fail(source, "ASCII STL line " + std::to_string(line) + ": expected 'facet' or 'endsolid', found '" +
                          AsciiTokens::printable(word) + "'");
       tokens.expect("normal");
-      for (int k = 0; k < 3; ++k) tokens.number("normal component");  // read for validation, then ignored
+      for (int k = 0; k < 3; ++k) tokens.number("normal component", false);  // must be a number; then ignored
       tokens.expect("outer");
       tokens.expect("loop");
       RawTriangle t;

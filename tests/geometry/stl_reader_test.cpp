@@ -136,6 +136,15 @@ TEST(HostStlReader, NonFiniteCoordinateInAsciiFile) {
   expect_one_line_error(parse_error(text_bytes(text)), "broken.stl", "non-finite vertex coordinate 'NaN'");
 }
 
+TEST(HostStlReader, NonFiniteStoredNormalsAreIgnored) {
+  // Exporters write "nan" normals for degenerate facets; normals are never used, so that is no error.
+  std::string text = ascii_tetrahedron;
+  text.replace(text.find("FACET NORMAL 0 0 0"), 18, "FACET NORMAL nan -inf NaN");
+  EXPECT_EQ(parse_stl(text_bytes(text), "normals").facets.size(), 4u);
+  text.replace(text.find("FACET NORMAL nan"), 16, "FACET NORMAL abc");
+  expect_one_line_error(parse_error(text_bytes(text)), "broken.stl", "expected a number (normal component), found 'abc'");
+}
+
 TEST(HostStlReader, TextWhereANumberBelongs) {
   std::string text = ascii_tetrahedron;
   text.replace(text.find("vertex +1.0"), 11, "vertex 1.0x");
