@@ -205,9 +205,14 @@ StlFacets parse_ascii(std::span<const unsigned char> bytes, const std::string& s
 }  // namespace
 
 StlFacets parse_stl(std::span<const unsigned char> bytes, const std::string& source) {
-  const bool text = all_text(bytes);
-  const bool solid = begins_with_solid(bytes);
-  if (solid && text) return parse_ascii(bytes, source);
+  // Some exporters end ASCII files with NUL padding or a DOS end-of-file mark (0x1a).
+  std::span<const unsigned char> trimmed = bytes;
+  while (!trimmed.empty() && (trimmed.back() == 0 || trimmed.back() == 0x1a)) trimmed = trimmed.first(trimmed.size() - 1);
+  const bool text = all_text(trimmed);
+  const bool solid = begins_with_solid(trimmed);
+  // All text after "solid": ASCII. A binary file is never all text in practice: its count and
+  // floats hold zero and control bytes.
+  if (solid && text) return parse_ascii(trimmed, source);
 
   if (bytes.size() < binary_header_bytes) {
     if (bytes.empty()) fail(source, "the file is empty (an STL file has at least a header)");

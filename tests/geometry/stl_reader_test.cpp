@@ -94,6 +94,14 @@ TEST(HostStlReader, AsciiWithSeveralSolidsCrlfAndExponents) {
   EXPECT_EQ(tetra.facets[1].corner[2][2], 1.0);
 }
 
+TEST(HostStlReader, AsciiWithNulPaddingOrEndOfFileMark) {
+  std::vector<unsigned char> bytes = text_bytes(ascii_tetrahedron);
+  bytes.push_back(0x1a);
+  EXPECT_EQ(parse_stl(bytes, "dos").facets.size(), 4u);
+  bytes.insert(bytes.end(), 7, 0);
+  EXPECT_EQ(parse_stl(bytes, "padded").facets.size(), 4u);
+}
+
 TEST(HostStlReader, EmptyMeshesAreReadAndRefusedWhereTrianglesAreNeeded) {
   for (const char* file : {"geometry/bad/empty_ascii.stl", "geometry/bad/empty_binary.stl"}) {
     const LoadedMesh loaded = load_triangle_mesh(test_data(file));
