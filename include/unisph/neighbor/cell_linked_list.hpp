@@ -21,6 +21,7 @@
 // found as neighbours). A NaN coordinate never passes the cutoff test, wherever it is put.
 
 #include <algorithm>
+#include <atomic>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -98,12 +99,23 @@ struct CountParticles {
   }
 };
 
+// Sets a flag that many threads may set at once. A plain store of the same value, not an
+// atomic read-modify-write: in a random order half the particles set it, and atomics on one
+// address would serialise them (measured: 10x slower builds on the H200).
+UNISPH_HOST_DEVICE inline void raise_flag(unsigned long long* flag) {
+#if UNISPH_DEVICE_CODE
+  *static_cast<volatile unsigned long long*>(flag) = 1;
+#else
+  std::atomic_ref<unsigned long long>(*flag).store(1, std::memory_order_relaxed);
+#endif
+}
+
 // Sets counters[3] when some particle's bucket is below its predecessor's.
 struct CheckCellOrder {
   View<const std::uint32_t> bucket_of;
   View<unsigned long long> counters;
   UNISPH_HOST_DEVICE void operator()(Index i) const {
-    if (bucket_of[i + 1] < bucket_of[i]) atomic_max(&counters[3], 1ull);
+    if (bucket_of[i + 1] < bucket_of[i]) raise_flag(&counters[3]);
   }
 };
 
