@@ -129,6 +129,8 @@ class View : public std::ranges::view_base {
                 "copyable: iter::RuntimeTuple (run-time values) or iter::CompileTimeTuple<offset, count, jump>.");
   static_assert(detail::check_child<Container, Child>());
 
+ public:
+  // Public so that the nested iterator sees them under every compiler (nvcc 13 refused private ones).
   using Traits = ContainerTraits<Container>;
   static constexpr bool has_child = !std::is_same_v<Child, NoChild>;
   static constexpr bool forward = Direction::is_forward;
@@ -144,7 +146,6 @@ class View : public std::ranges::view_base {
     using type = SlotRef<typename ContainerTraits<Container>::Component>;
   };
 
- public:
   using container_type = Container;
   using handle_type = typename Traits::Handle;
   using direction_type = Direction;
@@ -219,9 +220,11 @@ class View : public std::ranges::view_base {
       }
     }
 
+    // No [[no_unique_address]] on these members: with it, nvcc 13's device compiler (cicc) needed
+    // over 20 GB for a kernel with one nested view.
     Walk walk_{};
-    [[no_unique_address]] std::conditional_t<has_child, Child, NoChild> child_prototype_{};
-    [[no_unique_address]] std::conditional_t<has_child, ChildIterator, NoChild> child_{};
+    std::conditional_t<has_child, Child, NoChild> child_prototype_{};
+    std::conditional_t<has_child, ChildIterator, NoChild> child_{};
   };
 
   View() = default;
@@ -294,9 +297,9 @@ class View : public std::ranges::view_base {
   }
 
   handle_type handle_{};
-  [[no_unique_address]] Runtime runtime_{};
-  [[no_unique_address]] Child child_{};
-  [[no_unique_address]] Collectivity group_{};
+  Runtime runtime_{};
+  Child child_{};
+  Collectivity group_{};
 };
 
 }  // namespace unisph::iter
