@@ -219,12 +219,23 @@ LoadedMesh repair_triangle_mesh(const StlFacets& facets, const std::string& sour
     ++size_of_component[component[t]];
     turned_in_component[component[t]] += std::size_t(turn[t]);
   }
+  // Turn the minority, so that a consistent component keeps the orientation it was written with.
+  // On a tie (half the triangles each way) the written orientation means nothing: a closed
+  // component takes the half that leaves it with positive volume.
+  std::vector<double> volume_turning_marked(components, 0.0);
+  for (std::size_t t = 0; t < n; ++t)
+    volume_turning_marked[component[t]] += (turn[t] == 1 ? -1.0 : 1.0) * signed_volume(mesh.vertices, mesh.triangles[t]);
+  std::vector<bool> turn_the_marked(components, true);
+  for (std::size_t c = 0; c < components; ++c) {
+    if (2 * turned_in_component[c] > size_of_component[c])
+      turn_the_marked[c] = false;
+    else if (2 * turned_in_component[c] == size_of_component[c] && closed[c])
+      turn_the_marked[c] = volume_turning_marked[c] >= 0.0;
+  }
   for (std::size_t t = 0; t < n; ++t) {
     const std::size_t c = component[t];
     if (!orientable[c]) continue;
-    // Turn the minority, so that a consistent component keeps the orientation it was written with.
-    const bool turn_the_marked = 2 * turned_in_component[c] <= size_of_component[c];
-    if ((turn[t] == 1) == turn_the_marked) {
+    if ((turn[t] == 1) == turn_the_marked[c]) {
       flip(mesh.triangles[t]);
       ++report.triangles_flipped_for_consistency;
     }

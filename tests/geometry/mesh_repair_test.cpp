@@ -93,6 +93,17 @@ TEST(HostMeshRepair, InconsistentTrianglesAreTurnedToTheMajority) {
   EXPECT_NEAR(loaded.report.divergence_volume, 1.0 / 6.0, 1e-15);
 }
 
+TEST(HostMeshRepair, HalfAndHalfClosedBodyTakesTheOutwardHalf) {
+  // Two of four triangles written the other way: no majority, so the half that leaves the
+  // tetrahedron outward is turned, and it is not reported as turned outward.
+  std::vector<RawTriangle> facets = tetrahedron(V{}, 1.0);
+  for (int t : {0, 1}) std::swap(facets[t].corner[1], facets[t].corner[2]);
+  const LoadedMesh loaded = repair(facets);
+  EXPECT_EQ(loaded.report.triangles_flipped_for_consistency, 2u);
+  EXPECT_TRUE(loaded.report.components_turned_outward.empty());
+  EXPECT_NEAR(loaded.report.divergence_volume, 1.0 / 6.0, 1e-15);
+}
+
 TEST(HostMeshRepair, NestedBodyBecomesACavity) {
   // A small outward tetrahedron inside a large one: the inner one bounds a cavity, so it must
   // face into it (negative volume), and the total is the difference.
@@ -107,14 +118,15 @@ TEST(HostMeshRepair, NestedBodyBecomesACavity) {
 TEST(HostMeshRepair, MultibodyFileHasItsInwardBodyTurned) {
   const LoadedMesh loaded = load_triangle_mesh(test_data("geometry/trimesh_multibody.stl"));
   EXPECT_EQ(loaded.report.format, "ASCII STL");
-  // bodyB (component 0) has half of its 12 triangles written the other way round, bodyA
-  // (component 1) is consistent but inside-out. Turning bodyB's marked half happens to leave it
-  // inward as well (a tie), so both are turned outward afterwards; what matters is the result.
+  // As read, bodyB (component 0) has 2 of its 12 triangles facing out and 10 facing in; bodyA
+  // (component 1) 4 of 20 out and 16 in. The minorities are turned to agree (6 triangles), which
+  // leaves both bodies inside-out, so both are turned outward. Checked independently: every
+  // edge is then used once in each direction, and the volumes are 0.00147 and 0.00595.
   EXPECT_EQ(loaded.report.components, 2u);
   EXPECT_FALSE(loaded.report.consistently_oriented_as_read);
   EXPECT_EQ(loaded.report.triangles_flipped_for_consistency, 6u);
-  EXPECT_NE(std::find(loaded.report.components_turned_outward.begin(), loaded.report.components_turned_outward.end(), 1u),
-            loaded.report.components_turned_outward.end());
+  EXPECT_EQ(loaded.report.components_turned_outward, (std::vector<std::size_t>{0, 1}));
+  EXPECT_NEAR(loaded.report.divergence_volume, 0.00147143 + 0.00595179, 1e-7);
   EXPECT_TRUE(loaded.report.closed());
   EXPECT_TRUE(loaded.report.consistently_oriented);
   EXPECT_GT(loaded.report.divergence_volume, 0.0019853 + 0.005);
