@@ -199,7 +199,7 @@ TYPED_TEST(TriangleMeshSearchTest, SameAnswersAsSeq) {
 }
 
 TYPED_TEST(TriangleMeshSearchTest, OpenMeshesGetAFiniteWindingNumberWithADocumentedVerdict) {
-  // trimesh_teapot.stl is open (64 boundary edges: lid and spout openings), so its winding number
+  // trimesh_teapot.stl is open (64 boundary edges, 4 components), so its winding number
   // is 1 deep inside the body, 0 far outside and fractional near the openings; the soup of 100
   // disconnected triangles has no inside: its winding number stays small everywhere.
   {
