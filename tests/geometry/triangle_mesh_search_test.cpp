@@ -201,7 +201,7 @@ TYPED_TEST(TriangleMeshSearchTest, SameAnswersAsSeq) {
 TYPED_TEST(TriangleMeshSearchTest, OpenMeshesGetAFiniteWindingNumberWithADocumentedVerdict) {
   // trimesh_teapot.stl is open (64 boundary edges, 4 components), so its winding number
   // is 1 deep inside the body, 0 far outside and fractional near the openings; the soup of 100
-  // disconnected triangles has no inside: its winding number stays small everywhere.
+  // disconnected triangles has no inside (see below).
   {
     const LoadedMesh loaded = load_triangle_mesh(test_data("geometry/trimesh_teapot.stl"));
     TriangleMeshSearch search(loaded.mesh);
