@@ -122,6 +122,7 @@ void add_geometry_command(CLI::App& app) {
       ->capture_default_str();
   add_execution_options(*command, options->execution);
   command->callback([options] {
+    require_policy(parse_policy(options->execution.policy));  // before anything is printed
     if (is_polygon_file(options->file))
       print_polygon_report(read_polygons(options->file), *options);
     else
