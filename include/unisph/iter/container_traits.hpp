@@ -18,8 +18,11 @@
 //   step(h, cursor, k, forward)  the cursor k elements further on (or an end cursor)
 //   holds_element(h, cursor)   whether the slot holds an element (false for free slots)
 //   element(h, cursor)         Component& of a slot that holds one
-// and, where views can nest below it, child(h, cursor): the handle of that component seen as a
-// container (ContainerTraits<Component>::Handle).
+// and, where views can nest below it, ChildContainer and child(h, cursor): the container one
+// level down and its handle (ContainerTraits<ChildContainer>::Handle). Optional:
+//   random_access              true where the cursor follows from the position (RandomAccessNavigation)
+//   filled_prefix(h), slot_count(h)  where the elements fill the first filled_prefix of slot_count
+//                              slots (a frame): View::for_each then walks them without a test
 
 #include <type_traits>
 
@@ -58,6 +61,8 @@ concept ContainerWithChildren = ViewableContainer<Container> && requires(
 // Navigation shared by containers whose elements sit in one array: the cursor is an index.
 struct RandomAccessNavigation {
   using Cursor = Index;
+  // Views compute the cursor from the position instead of stepping it (one induction variable).
+  static constexpr bool random_access = true;
   // Backward positions count from the last element (size - 1).
   UNISPH_HOST_DEVICE static constexpr Cursor start_at(Index size, Index position, bool forward) {
     return forward ? position : size - 1 - position;

@@ -65,6 +65,9 @@ struct FrameTraits : RandomAccessNavigation {
     return step_by(cursor, k, forward);
   }
   UNISPH_HOST_DEVICE static constexpr bool holds_element(const Handle& h, Cursor slot) { return slot < h.fill; }
+  // The particles fill the first `fill` slots: View::for_each walks them without a test.
+  UNISPH_HOST_DEVICE static constexpr Index filled_prefix(const Handle& h) { return h.fill; }
+  UNISPH_HOST_DEVICE static constexpr Index slot_count(const Handle&) { return F::capacity; }
   UNISPH_HOST_DEVICE static constexpr Component& element(const Handle& h, Cursor slot) { return h.frame->slots[slot]; }
 };
 }  // namespace detail

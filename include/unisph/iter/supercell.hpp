@@ -51,9 +51,14 @@ struct ContainerTraits<Supercell<F>> {
 
   UNISPH_HOST_DEVICE static constexpr Handle empty_handle() { return Handle{}; }
   UNISPH_HOST_DEVICE static constexpr Index size(const Handle& h) { return h.header.frame_count; }
-  // Following links is the only way along a list: k steps cost k loads.
+  // Following links is the only way along a list: k steps cost k loads. Views step only to
+  // positions below the frame count, so the target frame exists and no test for the end of the
+  // list is needed (with one, the strided benchmark ran 1.5 times slower than the hand loop).
   UNISPH_HOST_DEVICE static constexpr Cursor step(const Handle& h, Cursor frame, Index k, bool forward) {
-    for (; k > 0 && frame != no_frame; --k) frame = forward ? h.frames[frame].next : h.frames[frame].previous;
+    if (forward)
+      for (; k > 0; --k) frame = h.frames[frame].next;
+    else
+      for (; k > 0; --k) frame = h.frames[frame].previous;
     return frame;
   }
   UNISPH_HOST_DEVICE static constexpr Cursor start(const Handle& h, Index position, bool forward) {

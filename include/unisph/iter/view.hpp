@@ -92,20 +92,30 @@ constexpr bool check_child() {
 template <class Container, bool Forward>
 struct LevelWalk {
   using Traits = ContainerTraits<Container>;
+  // Where elements sit in one array, the cursor follows from the position; a list keeps it.
+  static constexpr bool random_access = requires { requires Traits::random_access; };
+
   typename Traits::Handle handle{};
-  typename Traits::Cursor cursor{};
-  Index position = 0;      // in walking order
-  Index end_position = 0;  // the position after the last trip
+  typename Traits::Cursor stored_cursor{};  // lists only
+  Index position = 0;                       // in walking order
+  Index end_position = 0;                   // the position after the last trip
   Index jump = 1;
   Index count = 0;  // positions below count may hold elements, the others are padding
 
   UNISPH_HOST_DEVICE constexpr bool at_end() const { return position == end_position; }
+  UNISPH_HOST_DEVICE constexpr typename Traits::Cursor cursor() const {
+    if constexpr (random_access)
+      return Traits::start(handle, position, Forward);
+    else
+      return stored_cursor;
+  }
   UNISPH_HOST_DEVICE constexpr bool holds_element() const {
-    return position < count && Traits::holds_element(handle, cursor);
+    return position < count && Traits::holds_element(handle, cursor());
   }
   UNISPH_HOST_DEVICE constexpr void advance() {
     position += jump;
-    if (position < count) cursor = Traits::step(handle, cursor, jump, Forward);
+    if constexpr (!random_access)
+      if (position < count) stored_cursor = Traits::step(handle, stored_cursor, jump, Forward);
   }
 };
 
@@ -136,6 +146,11 @@ class View : public std::ranges::view_base {
   static constexpr bool forward = Direction::is_forward;
   using Walk = detail::LevelWalk<Container, forward>;
   using ChildIterator = typename detail::child_types<Child>::iterator;
+  // The container says which slots hold elements as one block at its front (frames do).
+  static constexpr bool filled_in_one_block = Walk::random_access && requires(const typename Traits::Handle& h) {
+    { Traits::filled_prefix(h) } -> std::convertible_to<Index>;
+    { Traits::slot_count(h) } -> std::convertible_to<Index>;
+  };
 
   template <class V>
   struct slot_of {
@@ -170,7 +185,7 @@ class View : public std::ranges::view_base {
       if constexpr (has_child)
         return *child_;
       else
-        return walk_.holds_element() ? slot_type(&Traits::element(walk_.handle, walk_.cursor)) : slot_type();
+        return walk_.holds_element() ? slot_type(&Traits::element(walk_.handle, walk_.cursor())) : slot_type();
     }
     UNISPH_HOST_DEVICE constexpr iterator& operator++() {
       if constexpr (has_child) {
@@ -212,7 +227,7 @@ class View : public std::ranges::view_base {
         using ChildTraits = ContainerTraits<typename Child::container_type>;
         for (; !walk_.at_end(); walk_.advance()) {
           child_ = child_prototype_
-                       .rebind(walk_.holds_element() ? Traits::child(walk_.handle, walk_.cursor)
+                       .rebind(walk_.holds_element() ? Traits::child(walk_.handle, walk_.cursor())
                                                      : ChildTraits::empty_handle())
                        .begin();
           if (!child_.at_end()) return;
@@ -256,6 +271,35 @@ class View : public std::ranges::view_base {
   }
   UNISPH_HOST_DEVICE constexpr std::default_sentinel_t end() const { return {}; }
 
+  // f(slot) for every slot the iterators visit, in the same order and with the same invalid
+  // slots, but as one plain loop per level (the iterator's single loop has to test at every
+  // step whether a level below ended, which compilers cannot split back into nested loops).
+  template <class F>
+  UNISPH_HOST_DEVICE constexpr void for_each(F&& f) const {
+    if constexpr (!has_child && filled_in_one_block) {
+      // Elements fill one block of slots (a frame's first `fill`): three plain loops, over the
+      // empty positions before it, the block itself without a test, and what follows it.
+      Walk walk = start();
+      const Index filled = Traits::filled_prefix(handle_), slots = Traits::slot_count(handle_);
+      const Index first = forward ? 0 : slots - filled;
+      const Index last = forward ? filled : slots;
+      const Index stop = last < walk.count ? last : walk.count;
+      for (; !walk.at_end() && walk.position < first; walk.advance()) f(slot_type());
+      for (; walk.position < stop; walk.advance()) f(slot_type(&Traits::element(handle_, walk.cursor())));
+      for (; !walk.at_end(); walk.advance()) f(slot_type());
+      return;
+    }
+    for (Walk walk = start(); !walk.at_end(); walk.advance()) {
+      if constexpr (has_child) {
+        using ChildTraits = ContainerTraits<typename Child::container_type>;
+        child_.rebind(walk.holds_element() ? Traits::child(walk.handle, walk.cursor()) : ChildTraits::empty_handle())
+            .for_each(f);
+      } else {
+        f(walk.holds_element() ? slot_type(&Traits::element(walk.handle, walk.cursor())) : slot_type());
+      }
+    }
+  }
+
   // The number of positions of this level the view considers (C above).
   UNISPH_HOST_DEVICE constexpr Index element_count() const {
     if constexpr (Traits::needs_runtime_size) {
@@ -292,7 +336,8 @@ class View : public std::ranges::view_base {
     }
     walk.position = offset;
     walk.end_position = offset + trips * walk.jump;
-    if (offset < walk.count) walk.cursor = Traits::start(handle_, offset, forward);
+    if constexpr (!Walk::random_access)
+      if (offset < walk.count) walk.stored_cursor = Traits::start(handle_, offset, forward);
     return walk;
   }
 

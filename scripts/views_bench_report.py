@@ -1,0 +1,45 @@
+#!/usr/bin/env python3
+"""Table of medians from views_bench JSON (run with --benchmark_repetitions=N --benchmark_format=json).
+
+Usage: views_bench_report.py views.json [more.json ...]
+Prints one Markdown row per case and policy: median time of the view loop, of the hand-written
+loop, their ratio, and whether the two checksums agree.
+"""
+import json
+import statistics
+import sys
+from collections import defaultdict
+
+
+def main(paths):
+    times = defaultdict(list)
+    checksums = defaultdict(set)
+    context = {}
+    for path in paths:
+        with open(path) as f:
+            data = json.load(f)
+        context = data.get("context", context)
+        for b in data["benchmarks"]:
+            if b.get("run_type") != "iteration" or b.get("error_occurred"):
+                continue
+            name = b["run_name"] if "run_name" in b else b["name"]
+            name = name.split("/real_time")[0]
+            case, loop, policy = name.split("/")[:3]
+            times[(case, policy, loop)].append(b["real_time"] * {"ms": 1e-3, "us": 1e-6, "ns": 1e-9}[b["time_unit"]])
+            checksums[(case, policy)].add(b.get("checksum"))
+    print(f"host: {context.get('host_name', '?')}, {context.get('num_cpus', '?')} CPUs, "
+          f"unisph_host_threads={context.get('unisph_host_threads', '?')}, gpu: {context.get('unisph_gpu', '?')}")
+    print()
+    print("| case | policy | reps | view median (ms) | hand median (ms) | view / hand | checksums equal |")
+    print("|---|---|---|---|---|---|---|")
+    for case, policy in sorted({(c, p) for c, p, _ in times}):
+        view, hand = times.get((case, policy, "view"), []), times.get((case, policy, "hand"), [])
+        if not view or not hand:
+            continue
+        mv, mh = statistics.median(view), statistics.median(hand)
+        same = "yes" if len(checksums[(case, policy)]) == 1 else f"NO {sorted(checksums[(case, policy)])}"
+        print(f"| {case} | {policy} | {min(len(view), len(hand))} | {mv * 1e3:.3f} | {mh * 1e3:.3f} | {mv / mh:.3f} | {same} |")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
