@@ -10,7 +10,8 @@
 // Two ways of finding the neighbours, chosen by the relation (see docs/neighbor_search.md):
 //   direct search  walks the particles of the 3^D cells around x_i and applies the cutoff
 //                  test on the fly (nothing stored per pair; the device default);
-//   stored lists   walks a CSR list of j built by a direct search at the last update.
+//   stored lists   walks a CSR list of j built by a direct search at the last update (the
+//                  host default).
 // Both give the same j with the same r_ij (recomputed from the current positions).
 //
 // Particles i are "sources" (for an inner relation the body's own particles, for a contact
