@@ -68,7 +68,26 @@ struct RecordWalk {
     }
     valid[c] = n;
     trips[c] = t;
+    // for_each must visit the same slots in the same order; a difference sets valid[c] to ~0.
+    Index k = 0, u = 0;
+    bool same = true;
+    view.for_each(Compare{ids, c * max_visits, n, k, u, same});
+    if (!same || k != n || u != t) valid[c] = ~Index(0);
   }
+  struct Compare {
+    unisph::View<int> ids;
+    Index base, n;
+    Index& k;
+    Index& u;
+    bool& same;
+    UNISPH_HOST_DEVICE void operator()(iter::SlotRef<const Tagged> slot) const {
+      ++u;
+      if (slot) {
+        if (k >= n || ids[base + k] != slot->id) same = false;
+        ++k;
+      }
+    }
+  };
 };
 
 // What the plain loop visits: the frames of the list in walking order, the positions
@@ -118,6 +137,7 @@ void check_walks(Policy policy, SmallContainer& container) {
             for (Index c = 0; c < cells; ++c) {
               const std::vector<int> expected =
                   plain_walk(host, c, FrameDirection::is_forward, frames, SlotDirection::is_forward, slots);
+              ASSERT_NE(found_valid[c], ~Index(0)) << "for_each differs from the iterator loop in supercell " << c;
               const std::vector<int> got(found.begin() + c * max_visits, found.begin() + c * max_visits + found_valid[c]);
               const Index frames_used = std::min<Index>(frame_count, host[c].header.frame_count);
               const std::string where = "supercell " + std::to_string(c) + " frames (" + std::to_string(frame_offset) +
@@ -183,6 +203,33 @@ TYPED_TEST(ViewWalks, ThreeLevelsMatchAPlainLoop) {
       for (Index s = 0; s < host[c].fill_of(f); ++s) sum += host.frames[f].slots[s].value, ++count;
   EXPECT_GT(count, 0);
   EXPECT_EQ(result.to_vector(), (std::vector<long long>{sum, count}));
+}
+
+// A view inside particle_reduce: one supercell per item, its particles summed through the view.
+struct SupercellValueSum {
+  iter::Supercells<const SmallFrame> cells;
+  UNISPH_HOST_DEVICE double operator()(Index c) const {
+    using Slots = iter::View<const SmallFrame>;
+    const iter::View<iter::Supercell<const SmallFrame>, direction::Forward, collectivity::None, RuntimeTuple, Slots> view(
+        cells[c], RuntimeTuple{}, Slots(nullptr));
+    double sum = 0;
+    for (auto slot : view)
+      if (slot) sum += slot->value;
+    return sum;
+  }
+};
+
+TYPED_TEST(ViewWalks, ParticleReduceOverSupercellsMatchesTheHostSum) {
+  SmallContainer container("reduce", 8192);
+  double expected = 0;
+  for (Index c = 0; c < container.supercell_count(); ++c) {
+    std::vector<Tagged> particles;
+    for (Index p = 0; p < c % 11; ++p) particles.push_back({int(p), int(c % 1000 + p)}), expected += double(c % 1000 + p);
+    container.append(c, particles);
+  }
+  EXPECT_EQ(particle_reduce(this->policy, container.supercell_count(), Sum<double>{},
+                            SupercellValueSum{container.read(this->policy)}),
+            expected);
 }
 
 // ---- a team of 256 shares one walk per supercell ----------------------------------------------

@@ -277,25 +277,25 @@ class View : public std::ranges::view_base {
   template <class F>
   UNISPH_HOST_DEVICE constexpr void for_each(F&& f) const {
     if constexpr (!has_child && filled_in_one_block) {
-      // Elements fill one block of slots (a frame's first `fill`): three plain loops, over the
-      // empty positions before it, the block itself without a test, and what follows it.
+      // Elements fill one block of slots (a frame's first `fill`): plain loops over the empty
+      // positions before it (walking backward), the block itself without a test, and what follows.
       Walk walk = start();
       const Index filled = Traits::filled_prefix(handle_), slots = Traits::slot_count(handle_);
-      const Index first = forward ? 0 : slots - filled;
       const Index last = forward ? filled : slots;
       const Index stop = last < walk.count ? last : walk.count;
-      for (; !walk.at_end() && walk.position < first; walk.advance()) f(slot_type());
+      if constexpr (!forward)
+        for (; !walk.at_end() && walk.position < slots - filled; walk.advance()) f(slot_type());
       for (; walk.position < stop; walk.advance()) f(slot_type(&Traits::element(handle_, walk.cursor())));
       for (; !walk.at_end(); walk.advance()) f(slot_type());
-      return;
-    }
-    for (Walk walk = start(); !walk.at_end(); walk.advance()) {
-      if constexpr (has_child) {
-        using ChildTraits = ContainerTraits<typename Child::container_type>;
-        child_.rebind(walk.holds_element() ? Traits::child(walk.handle, walk.cursor()) : ChildTraits::empty_handle())
-            .for_each(f);
-      } else {
-        f(walk.holds_element() ? slot_type(&Traits::element(walk.handle, walk.cursor())) : slot_type());
+    } else {
+      for (Walk walk = start(); !walk.at_end(); walk.advance()) {
+        if constexpr (has_child) {
+          using ChildTraits = ContainerTraits<typename Child::container_type>;
+          child_.rebind(walk.holds_element() ? Traits::child(walk.handle, walk.cursor()) : ChildTraits::empty_handle())
+              .for_each(f);
+        } else {
+          f(walk.holds_element() ? slot_type(&Traits::element(walk.handle, walk.cursor())) : slot_type());
+        }
       }
     }
   }
