@@ -13,7 +13,9 @@
 #include "neighbor_scenarios.hpp"
 #include "support/policy_test.hpp"
 #include "unisph/neighbor/contact_relation.hpp"
+#include "unisph/dynamics/local_dynamics.hpp"
 #include "unisph/neighbor/inner_relation.hpp"
+#include "unisph/particles/body.hpp"
 
 namespace {
 using namespace unisph;
@@ -160,7 +162,70 @@ void check_layouts(P policy) {
     }
 }
 
+// Counts the neighbours of each source through the kernel-shell path a method takes.
+class CountNeighborsMethod : public InteractionDynamics<CountNeighborsMethod> {
+ public:
+  CountNeighborsMethod(InnerRelation<double, 3>& relation, DiscreteVariable<double>& count)
+      : relation_(relation), count_(count) {}
+  struct Kernel {
+    NeighborSearch<double, 3> search;
+    View<double> count;
+    UNISPH_HOST_DEVICE void interaction(Index i, Real) const {
+      double n = 0;
+      search.for_each_neighbor(i, [&](Index, const NeighborPair<double, 3>&) { n += 1; });
+      count[i] = n;
+    }
+  };
+  Kernel make_kernel(KernelContext& context) { return {relation_.search(context), context.read_write(count_)}; }
+  Index size() const { return relation_.source_count(); }
+
+ private:
+  InnerRelation<double, 3>& relation_;
+  DiscreteVariable<double>& count_;
+};
+
 UNISPH_POLICY_TEST_SUITE(NeighborRelation);
+
+// Owned particles find ghosts as neighbours; a method over the owned particles leaves the
+// ghosts' values alone; the kernel follows the stored lists through every update.
+TYPED_TEST(NeighborRelation, GhostsAreFoundButNotUpdated) {
+  const auto policy = this->policy;
+  const Scenario<double, 3> s = make_scenario<double, 3>(Layout::random);
+  const Index ghosts = 100, owned = s.positions.size() - ghosts;
+  Body<double, 3> body("Water", s.box, owned, ghosts);
+  body.positions().assign(s.positions);
+  auto& count = body.particles().add_variable<double>("NeighborCount", output_variable);
+  {
+    View<double> c = count.write(MemorySpace::host);
+    for (Index i = 0; i < owned + ghosts; ++i) c[i] = -1.0;
+  }
+  CellLinkedList<double, 3> cells(body.positions(), body.domain(), s.cutoff);
+  for (SearchMethod method : {SearchMethod::direct, SearchMethod::stored}) {
+    InnerRelation<double, 3> inner(cells, method);
+    inner.set_source_count(body.particles().owned_count());
+    CountNeighborsMethod counting(inner, count);
+    for (int step = 0; step < 2; ++step) {
+      if (step == 1) {  // move the particles: the lists and the kernel must follow
+        View<Vec<double, 3>> x = body.positions().read_write(MemorySpace::host);
+        for (Index i = 0; i < owned + ghosts; ++i) x[i] = x[i] * 0.9;
+      }
+      cells.build(policy);
+      inner.update(policy);
+      counting.exec(policy);
+      const auto x = body.positions().to_vector();
+      const auto c = count.to_vector();
+      const NeighborSets all = brute_force(cells.grid(), x, x, true, false);
+      Index wrong = 0, ghost_neighbors = 0;
+      for (Index i = 0; i < owned; ++i) {
+        wrong += c[i] != double(all[i].size());
+        for (std::uint32_t j : all[i]) ghost_neighbors += j >= owned;
+      }
+      for (Index i = owned; i < owned + ghosts; ++i) wrong += c[i] != -1.0;
+      EXPECT_EQ(wrong, 0u) << (method == SearchMethod::direct ? "direct" : "stored") << ", step " << step;
+      EXPECT_GT(ghost_neighbors, 0u);
+    }
+  }
+}
 
 TYPED_TEST(NeighborRelation, StoredListsMustBeUpdatedAfterEachBuild) {
   const auto policy = this->policy;
