@@ -1,6 +1,7 @@
 // particle_reduce against exact results: integer-valued data, so every sum is exact.
 #include <cstdint>
 #include <limits>
+#include <vector>
 
 #include "support/policy_test.hpp"
 #include "unisph/core/vector.hpp"
@@ -129,6 +130,34 @@ TYPED_TEST(ParticleReduce, UserOperations) {
   const CountAndSum got = particle_reduce(this->policy, n, CountAndSum{0, 0.0}, CombineCountAndSum{}, PositiveItems{});
   EXPECT_EQ(got.count, ref.count);
   EXPECT_EQ(got.sum, ref.sum);
+}
+
+// Back-to-back reductions of different types and sizes, interleaved with kernels that change
+// the data: each result is the one of its own launch (the result buffer and the partials are
+// reused between launches).
+struct AddIndexParity {
+  View<double> v;
+  UNISPH_HOST_DEVICE void operator()(Index i) const { v[i] += static_cast<double>(i % 2); }
+};
+
+TYPED_TEST(ParticleReduce, BackToBackReductionsOfDifferentTypes) {
+  const Index sizes[] = {1, 1000, 1'000'003, 77};
+  DiscreteVariable<double> v("v", 1'000'003);
+  fill_pattern(v);
+  std::vector<double> host = v.to_vector();
+  for (int round = 0; round < 20; ++round) {
+    const Index n = sizes[round % 4];
+    double sum = 0;
+    for (Index i = 0; i < n; ++i) sum += host[i];
+    EXPECT_EQ(particle_reduce(this->policy, n, Sum<double>{}, PatternValue<double>{v.read(this->policy)}), sum)
+        << "round " << round;
+    const Vec<double, 3> vec_sum = particle_reduce(this->policy, n, Sum<Vec<double, 3>>{}, VectorOfItem{});
+    Vec<double, 3> ref{};
+    for (Index i = 0; i < n; ++i) ref += VectorOfItem{}(i);
+    EXPECT_EQ(vec_sum, ref) << "round " << round;
+    particle_for(this->policy, v.size(), AddIndexParity{v.read_write(this->policy)});
+    for (Index i = 0; i < host.size(); ++i) host[i] += static_cast<double>(i % 2);
+  }
 }
 
 }  // namespace
