@@ -13,7 +13,7 @@ packages=(
   libcli11-dev                            # the command line
   libtomlplusplus-dev                     # case files
   clang libclang-rt-14-dev                # libFuzzer targets
-  python3 python3-matplotlib              # plots (Debian's python3, /usr/bin/python3)
+  python3 python3-matplotlib python3-vtk9 # plots, reading output back with VTK (/usr/bin/python3)
 )
 
 missing=()
