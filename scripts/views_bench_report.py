@@ -2,8 +2,9 @@
 """Table of medians from views_bench JSON (run with --benchmark_repetitions=N --benchmark_format=json).
 
 Usage: views_bench_report.py views.json [more.json ...]
-Prints one Markdown row per case and policy: median time of the view loop, of the hand-written
-loop, their ratio, and whether the two checksums agree.
+Prints one Markdown row per case and policy: the median time of the hand-written loop, of the
+view's iterator loop and of View::for_each, their ratios to the hand loop, and whether all
+checksums of the case agree.
 """
 import json
 import statistics
@@ -30,16 +31,23 @@ def main(paths):
     print(f"host: {context.get('host_name', '?')}, {context.get('num_cpus', '?')} CPUs, "
           f"unisph_host_threads={context.get('unisph_host_threads', '?')}, gpu: {context.get('unisph_gpu', '?')}")
     print()
-    print("| case | policy | reps | view median (ms) | hand median (ms) | view / hand | checksums equal |")
-    print("|---|---|---|---|---|---|---|")
+    print("| case | policy | reps | hand (ms) | view (ms) | view / hand | for_each (ms) | for_each / hand | checksums equal |")
+    print("|---|---|---|---|---|---|---|---|---|")
     for case, policy in sorted({(c, p) for c, p, _ in times}):
-        view, hand = times.get((case, policy, "view"), []), times.get((case, policy, "hand"), [])
-        if not view or not hand:
+        hand = times.get((case, policy, "hand"), [])
+        if not hand:
             continue
-        mv, mh = statistics.median(view), statistics.median(hand)
+        mh = statistics.median(hand)
+        row = [case, policy, str(len(hand)), f"{mh * 1e3:.3f}"]
+        for loop in ("view", "for_each"):
+            t = times.get((case, policy, loop), [])
+            if t:
+                m = statistics.median(t)
+                row += [f"{m * 1e3:.3f}", f"{m / mh:.3f}"]
+            else:
+                row += ["", ""]
         same = "yes" if len(checksums[(case, policy)]) == 1 else f"NO {sorted(checksums[(case, policy)])}"
-        print(f"| {case} | {policy} | {min(len(view), len(hand))} | {mv * 1e3:.3f} | {mh * 1e3:.3f} | {mv / mh:.3f} | {same} |")
-
+        print("| " + " | ".join(row + [same]) + " |")
 
 if __name__ == "__main__":
     main(sys.argv[1:])

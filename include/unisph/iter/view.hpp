@@ -95,12 +95,18 @@ struct LevelWalk {
   // Where elements sit in one array, the cursor follows from the position; a list keeps it.
   static constexpr bool random_access = requires { requires Traits::random_access; };
 
+  // Walking forward over a container whose elements fill its first slots (a frame), one
+  // comparison tells whether a position holds an element.
+  static constexpr bool filled_front =
+      random_access && Forward && requires(const typename Traits::Handle& h) { Traits::filled_prefix(h); };
+
   typename Traits::Handle handle{};
   typename Traits::Cursor stored_cursor{};  // lists only
   Index position = 0;                       // in walking order
   Index end_position = 0;                   // the position after the last trip
   Index jump = 1;
-  Index count = 0;  // positions below count may hold elements, the others are padding
+  Index count = 0;        // positions below count may hold elements, the others are padding
+  Index filled_end = 0;   // filled_front only: positions below it hold elements
 
   UNISPH_HOST_DEVICE constexpr bool at_end() const { return position == end_position; }
   UNISPH_HOST_DEVICE constexpr typename Traits::Cursor cursor() const {
@@ -110,7 +116,10 @@ struct LevelWalk {
       return stored_cursor;
   }
   UNISPH_HOST_DEVICE constexpr bool holds_element() const {
-    return position < count && Traits::holds_element(handle, cursor());
+    if constexpr (filled_front)
+      return position < filled_end;
+    else
+      return position < count && Traits::holds_element(handle, cursor());
   }
   UNISPH_HOST_DEVICE constexpr void advance() {
     position += jump;
@@ -336,6 +345,10 @@ class View : public std::ranges::view_base {
     }
     walk.position = offset;
     walk.end_position = offset + trips * walk.jump;
+    if constexpr (Walk::filled_front) {
+      const Index filled = Traits::filled_prefix(handle_);
+      walk.filled_end = filled < walk.count ? filled : walk.count;
+    }
     if constexpr (!Walk::random_access)
       if (offset < walk.count) walk.stored_cursor = Traits::start(handle_, offset, forward);
     return walk;
