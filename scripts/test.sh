@@ -43,4 +43,7 @@ build/consumer/consumer
 stage "fuzz the STL reader for ${UNISPH_FUZZ_SECONDS:-60} s"
 scripts/fuzz_stl.sh "${UNISPH_FUZZ_SECONDS:-60}"
 
+stage "fuzz the polygon reader for ${UNISPH_FUZZ_SECONDS:-60} s"
+UNISPH_FUZZ_TARGET=polygon scripts/fuzz_stl.sh "${UNISPH_FUZZ_SECONDS:-60}"
+
 stage "done"
