@@ -400,6 +400,29 @@ struct ThrowOnRankTwo {
   }
 };
 
+// Counts, per group, how many workers ran it and which team sizes they saw.
+struct CountWorkers {
+  unisph::View<int> workers;
+  template <class Team>
+  void operator()(const Team& team, Index g) const {
+    atomic_add(&workers[g], 1);
+    team.sync();
+    if (team.is_mover()) atomic_add(&workers[g], 1000 * int(team.size()));
+  }
+};
+
+TEST(HostCollectiveFor, EveryGroupRunsOnceWithItsWholeTeamOnSeqAndPar) {
+  // par runs cores / team_size teams side by side (more than one for a team of 1 on 2+ cores).
+  for (Index team_size : {1, 2, 3}) {
+    DiscreteVariable<int> seq_workers("seq", 17), par_workers("par", 17);
+    iter::collective_for(seq, 17, team_size, CountWorkers{seq_workers.read_write(MemorySpace::host)});
+    iter::collective_for(par, 17, team_size, CountWorkers{par_workers.read_write(MemorySpace::host)});
+    const std::vector<int> expected(17, int(team_size) + 1000 * int(team_size));
+    EXPECT_EQ(seq_workers.to_vector(), expected) << "team of " << team_size;
+    EXPECT_EQ(par_workers.to_vector(), expected) << "team of " << team_size;
+  }
+}
+
 TEST(HostCollectiveFor, AnExceptionInOneThreadReachesTheCallerWithoutHangingTheTeam) {
   EXPECT_THROW(iter::collective_for(seq, 3, 4, ThrowOnRankTwo{}), std::runtime_error);
   EXPECT_THROW(iter::collective_for(seq, 1, 0, ThrowOnRankTwo{}), Error);
