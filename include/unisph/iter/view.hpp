@@ -28,7 +28,12 @@
 // With a Child, the view yields the child's slots: for each trip of this level it walks the
 // child view (a prototype built with nullptr instead of a container) over that element. A
 // padding position gives the child an empty container: a frame of N empty slots (so that
-// nested collective walks keep their trip counts equal), a supercell with no frames.
+// nested collective walks keep their trip counts equal), a supercell with no frames. Trips of
+// this level whose child walk is empty are skipped.
+//
+// for_each(f) visits the same slots as the iterators, as one plain loop per level: the fast
+// form (the iterator loop measures 1.1 to 1.9 times the hand-written loop, for_each within a
+// few per cent; docs/views.md).
 
 #include <cstddef>
 #include <iterator>
