@@ -1,0 +1,46 @@
+#pragma once
+// A free-surface case in a closed rectangular tank: what a case file (TOML) describes.
+// Values are in the user's units; nothing assumes g = 1 or rho0 = 1.
+//
+// The tank's inside is [0, tank[0]] x [0, tank[1]] (x [0, tank[2]]), gravity acts along -y
+// (axis 1), and the water column fills [0, column[0]] x [0, column[1]] (x [0, column[2]]).
+#include <string>
+#include <vector>
+
+namespace unisph::sph {
+
+struct ProbeDescription {
+  std::string name;
+  std::vector<double> position;
+};
+
+struct CaseDescription {
+  std::string name;
+  std::string source;  // the file it was read from (for messages)
+  int dimension = 2;
+  // [geometry]
+  double dx = 0;
+  std::vector<double> tank;
+  std::vector<double> column;
+  // [fluid]
+  double density = 0;             // rho0
+  double sound_speed = 0;         // c0
+  double reference_velocity = 0;  // U
+  double viscosity = 0;           // dynamic viscosity mu
+  // [physics]
+  double gravity = 0;  // |g|, acting along -y
+  // [initial]
+  bool hydrostatic = false;  // start from the hydrostatic pressure and density
+  // [time]
+  double end_time = 0;
+  double output_interval = 0;
+  int sort_every = 1;  // advection steps between particle sorts
+  // [report]: reference scales for the dimensionless columns of the observer file
+  double length_scale = 1;
+  double time_scale = 1;
+  double pressure_scale = 1;
+  // [[probe]]
+  std::vector<ProbeDescription> probes;
+};
+
+}  // namespace unisph::sph

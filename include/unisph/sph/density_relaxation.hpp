@@ -1,0 +1,93 @@
+#pragma once
+// The second half of an acoustic step (continuity), in two kernels:
+//
+//   DensityRelaxation   drho_i/dt = rho_i sum_j [ (v_i - v_j).e_ij + (p_i - p_j)/(rho0 c0) ] dW_ij V_j
+//                                 + rho_i sum_w 2 (v_i . n_w)(n_w . e_iw) dW_iw V_w
+//                       i.e. 2 rho_i (v_i - u*) . grad W with the acoustic Riemann interface
+//                       velocity u*; the wall is a mirror (normal velocity reversed, wall at rest).
+//   DensityUpdate       rho += drho/dt dt/2 (the other half is applied at the next step's start)
+#include <type_traits>
+
+#include "unisph/dynamics/local_dynamics.hpp"
+#include "unisph/neighbor/contact_relation.hpp"
+#include "unisph/neighbor/inner_relation.hpp"
+#include "unisph/sph/acoustic_riemann_solver.hpp"
+#include "unisph/sph/fluid_variables.hpp"
+#include "unisph/sph/wendland_kernel.hpp"
+
+namespace unisph::sph {
+
+template <class T, int D>
+class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
+ public:
+  DensityRelaxation(FluidVariables<T, D>& fluid, WallVariables<T, D>& wall, InnerRelation<T, D>& inner,
+                    ContactRelation<T, D>& contact, WendlandC2Kernel<T, D> kernel, AcousticRiemannSolver<T> riemann,
+                    T wall_volume)
+      : fluid_(fluid), wall_(wall), inner_(inner), contact_(contact), kernel_(kernel), riemann_(riemann),
+        wall_volume_(wall_volume) {}
+
+  struct Kernel {
+    NeighborSearch<T, D> inner, contact;
+    View<const Vec<T, D>> velocity, wall_normal;
+    View<const T> density, pressure, mass;
+    View<T> density_change_rate;
+    WendlandC2Kernel<T, D> kernel;
+    AcousticRiemannSolver<T> riemann;
+    T wall_volume;
+
+    UNISPH_HOST_DEVICE void interaction(Index i, Real) const {
+      const Vec<T, D> v_i = velocity[i];
+      const T p_i = pressure[i];
+      T rate = T(0);
+      inner.for_each_neighbor(i, [&](Index j, const NeighborPair<T, D>& pair) {
+        const T r = pair.distance();
+        const Vec<T, D> e = pair.r_ij * (T(1) / r);
+        const T divergence = dot(v_i - velocity[j], e) + riemann.velocity_dissipation(p_i, pressure[j]);
+        rate += divergence * kernel.derivative(r) * mass[j] / density[j];
+      });
+      contact.for_each_neighbor(i, [&](Index w, const NeighborPair<T, D>& pair) {
+        const T r = pair.distance();
+        const Vec<T, D> e = pair.r_ij * (T(1) / r);
+        const Vec<T, D> n = wall_normal[w];
+        rate += T(2) * dot(v_i, n) * dot(n, e) * kernel.derivative(r) * wall_volume;
+      });
+      density_change_rate[i] = rate * density[i];
+    }
+  };
+  static_assert(std::is_trivially_copyable_v<Kernel>, "Kernels are copied to the device byte for byte.");
+
+  Kernel make_kernel(KernelContext& c) {
+    return {inner_.search(c), contact_.search(c), c.read(fluid_.velocity), c.read(wall_.normal),
+            c.read(fluid_.density), c.read(fluid_.pressure), c.read(fluid_.mass),
+            c.write(fluid_.density_change_rate), kernel_, riemann_, wall_volume_};
+  }
+  Index size() const { return fluid_.size(); }
+
+ private:
+  FluidVariables<T, D>& fluid_;
+  WallVariables<T, D>& wall_;
+  InnerRelation<T, D>& inner_;
+  ContactRelation<T, D>& contact_;
+  WendlandC2Kernel<T, D> kernel_;
+  AcousticRiemannSolver<T> riemann_;
+  T wall_volume_;
+};
+
+template <class T, int D>
+class DensityUpdate : public UpdateDynamics<DensityUpdate<T, D>> {
+ public:
+  explicit DensityUpdate(FluidVariables<T, D>& fluid) : fluid_(fluid) {}
+  struct Kernel {
+    View<T> density;
+    View<const T> density_change_rate;
+    UNISPH_HOST_DEVICE void update(Index i, Real dt) const { density[i] += density_change_rate[i] * (T(0.5) * T(dt)); }
+  };
+  static_assert(std::is_trivially_copyable_v<Kernel>, "Kernels are copied to the device byte for byte.");
+  Kernel make_kernel(KernelContext& c) { return {c.read_write(fluid_.density), c.read(fluid_.density_change_rate)}; }
+  Index size() const { return fluid_.size(); }
+
+ private:
+  FluidVariables<T, D>& fluid_;
+};
+
+}  // namespace unisph::sph

@@ -1,0 +1,70 @@
+#pragma once
+// Density by kernel summation with the free-surface correction, once per advection step.
+//
+//   rho_sum,i = ( sum_j m_j W_ij  +  m_i (V_wall / V_i0) sum_wall W_iw ) / (V_i0 sigma0)
+//
+// sigma0 is the lattice sum of W (WendlandC2Kernel::lattice_sum), V_i0 = dx^D, so a particle
+// inside a fluid at rest on the initial lattice gets exactly its initial density. Wall dummy
+// particles count as fluid of particle i's own density (they are its mirror). Near a free
+// surface the sum lacks neighbours and underestimates the density; the correction keeps the
+// current density there:  rho_i <- rho_sum + max(0, rho_i - rho_sum) rho0 / rho_i.
+#include <type_traits>
+
+#include "unisph/dynamics/local_dynamics.hpp"
+#include "unisph/neighbor/contact_relation.hpp"
+#include "unisph/neighbor/inner_relation.hpp"
+#include "unisph/sph/fluid_variables.hpp"
+#include "unisph/sph/wendland_kernel.hpp"
+
+namespace unisph::sph {
+
+template <class T, int D>
+class DensitySummationFreeSurface : public InteractionDynamics<DensitySummationFreeSurface<T, D>> {
+ public:
+  DensitySummationFreeSurface(FluidVariables<T, D>& fluid, InnerRelation<T, D>& inner, ContactRelation<T, D>& wall,
+                              WendlandC2Kernel<T, D> kernel, T dx, T reference_density)
+      : fluid_(fluid), inner_(inner), wall_(wall), kernel_(kernel), reference_density_(reference_density) {
+    T volume = T(1);
+    for (int a = 0; a < D; ++a) volume *= dx;
+    inverse_reference_sum_ = T(1) / (volume * kernel.lattice_sum(dx));
+    self_weight_ = kernel.value(T(0));
+  }
+
+  struct Kernel {
+    NeighborSearch<T, D> inner, wall;
+    View<const T> mass;
+    View<T> density;
+    WendlandC2Kernel<T, D> kernel;
+    T self_weight, inverse_reference_sum, reference_density;
+
+    UNISPH_HOST_DEVICE void interaction(Index i, Real) const {
+      T sum = mass[i] * self_weight;
+      inner.for_each_neighbor(i, [&](Index j, const NeighborPair<T, D>& p) { sum += mass[j] * kernel.value(p.distance()); });
+      T wall_sum = T(0);
+      wall.for_each_neighbor(i, [&](Index, const NeighborPair<T, D>& p) { wall_sum += kernel.value(p.distance()); });
+      sum += mass[i] * wall_sum;  // the wall's volume is dx^D, as V_i0
+      const T summed = sum * inverse_reference_sum;
+      const T current = density[i];
+      const T excess = current - summed;
+      density[i] = summed + (excess > T(0) ? excess : T(0)) * reference_density / current;
+    }
+  };
+  static_assert(std::is_trivially_copyable_v<Kernel>, "The density summation kernel is copied to the device byte for byte.");
+
+  Kernel make_kernel(KernelContext& context) {
+    return {inner_.search(context), wall_.search(context), context.read(fluid_.mass), context.read_write(fluid_.density),
+            kernel_, self_weight_, inverse_reference_sum_, reference_density_};
+  }
+  Index size() const { return fluid_.size(); }
+
+ private:
+  FluidVariables<T, D>& fluid_;
+  InnerRelation<T, D>& inner_;
+  ContactRelation<T, D>& wall_;
+  WendlandC2Kernel<T, D> kernel_;
+  T reference_density_;
+  T inverse_reference_sum_ = T(1);
+  T self_weight_ = T(0);
+};
+
+}  // namespace unisph::sph

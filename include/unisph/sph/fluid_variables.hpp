@@ -1,0 +1,48 @@
+#pragma once
+// The named variables of a weakly compressible fluid body and of a wall body. All fluid
+// variables are sortable (they move with the particles when the set is reordered) and the
+// physical ones are written to the output.
+#include "unisph/particles/body.hpp"
+
+namespace unisph::sph {
+
+template <class T, int D>
+struct FluidVariables {
+  using Vector = Vec<T, D>;
+  DiscreteVariable<Vector>& position;
+  DiscreteVariable<Vector>& velocity;
+  DiscreteVariable<Vector>& acceleration;        // from pressure, per acoustic step
+  DiscreteVariable<Vector>& prior_acceleration;  // gravity and viscosity, per advection step
+  DiscreteVariable<T>& density;
+  DiscreteVariable<T>& pressure;
+  DiscreteVariable<T>& mass;
+  DiscreteVariable<T>& density_change_rate;
+
+  explicit FluidVariables(Body<T, D>& body)
+      : position(body.positions()),
+        velocity(body.particles().template add_variable<Vector>("Velocity", sortable_output_variable)),
+        acceleration(body.particles().template add_variable<Vector>("Acceleration", sortable_variable)),
+        prior_acceleration(body.particles().template add_variable<Vector>("PriorAcceleration", sortable_variable)),
+        density(body.particles().template add_variable<T>("Density", sortable_output_variable)),
+        pressure(body.particles().template add_variable<T>("Pressure", sortable_output_variable)),
+        mass(body.particles().template add_variable<T>("Mass", sortable_output_variable)),
+        density_change_rate(body.particles().template add_variable<T>("DensityChangeRate", sortable_variable)) {}
+
+  Index size() const { return position.size(); }
+};
+
+// A static wall of dummy particles: positions and unit normals pointing into the fluid.
+template <class T, int D>
+struct WallVariables {
+  using Vector = Vec<T, D>;
+  DiscreteVariable<Vector>& position;
+  DiscreteVariable<Vector>& normal;
+
+  explicit WallVariables(Body<T, D>& body)
+      : position(body.positions()),
+        normal(body.particles().template add_variable<Vector>("Normal", sortable_output_variable)) {}
+
+  Index size() const { return position.size(); }
+};
+
+}  // namespace unisph::sph

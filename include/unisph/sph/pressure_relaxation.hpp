@@ -1,0 +1,146 @@
+#pragma once
+// The first half of an acoustic step (momentum), in three kernels:
+//
+//   PressureRelaxationStart   rho += drho/dt dt/2, p = EOS(rho), x += v dt/2
+//   PressureRelaxation        a_i = -(1/rho_i) sum_j 2 p*_ij dW_ij V_j e_ij
+//                             (Riemann interface pressure with the dissipation limiter)
+//                             + the same with each wall dummy particle w, whose pressure is
+//                             extrapolated from p_i along the wall normal n_w with the
+//                             prior (gravity) acceleration: p_w = p_i + rho_i max(0, -a0_i.n_w) max(0, r_iw.n_w),
+//                             and whose velocity is the mirror of v_i (u_L - u_R = -2 v_i.n_w).
+//   VelocityUpdate            v += (a + a0) dt, x += v dt/2   (the second half's position step)
+//
+// The acceleration is stored and applied in its own kernel because PressureRelaxation
+// reads the velocities of the neighbours.
+#include <type_traits>
+
+#include "unisph/dynamics/local_dynamics.hpp"
+#include "unisph/neighbor/contact_relation.hpp"
+#include "unisph/neighbor/inner_relation.hpp"
+#include "unisph/sph/acoustic_riemann_solver.hpp"
+#include "unisph/sph/equation_of_state.hpp"
+#include "unisph/sph/fluid_variables.hpp"
+#include "unisph/sph/wendland_kernel.hpp"
+
+namespace unisph::sph {
+
+template <class T, int D>
+class PressureRelaxationStart : public UpdateDynamics<PressureRelaxationStart<T, D>> {
+ public:
+  PressureRelaxationStart(FluidVariables<T, D>& fluid, WeaklyCompressibleEquationOfState<T> eos)
+      : fluid_(fluid), eos_(eos) {}
+  struct Kernel {
+    View<Vec<T, D>> position;
+    View<const Vec<T, D>> velocity;
+    View<T> density, pressure;
+    View<const T> density_change_rate;
+    WeaklyCompressibleEquationOfState<T> eos;
+    UNISPH_HOST_DEVICE void update(Index i, Real dt_real) const {
+      const T half_dt = T(0.5) * T(dt_real);
+      const T rho = density[i] + density_change_rate[i] * half_dt;
+      density[i] = rho;
+      pressure[i] = eos.pressure(rho);
+      position[i] += velocity[i] * half_dt;
+    }
+  };
+  static_assert(std::is_trivially_copyable_v<Kernel>, "Kernels are copied to the device byte for byte.");
+  Kernel make_kernel(KernelContext& c) {
+    return {c.read_write(fluid_.position), c.read(fluid_.velocity), c.read_write(fluid_.density),
+            c.write(fluid_.pressure), c.read(fluid_.density_change_rate), eos_};
+  }
+  Index size() const { return fluid_.size(); }
+
+ private:
+  FluidVariables<T, D>& fluid_;
+  WeaklyCompressibleEquationOfState<T> eos_;
+};
+
+template <class T, int D>
+class PressureRelaxation : public InteractionDynamics<PressureRelaxation<T, D>> {
+ public:
+  PressureRelaxation(FluidVariables<T, D>& fluid, WallVariables<T, D>& wall, InnerRelation<T, D>& inner,
+                     ContactRelation<T, D>& contact, WendlandC2Kernel<T, D> kernel, AcousticRiemannSolver<T> riemann,
+                     T wall_volume)
+      : fluid_(fluid), wall_(wall), inner_(inner), contact_(contact), kernel_(kernel), riemann_(riemann),
+        wall_volume_(wall_volume) {}
+
+  struct Kernel {
+    NeighborSearch<T, D> inner, contact;
+    View<const Vec<T, D>> velocity, prior_acceleration, wall_normal;
+    View<const T> density, pressure, mass;
+    View<Vec<T, D>> acceleration;
+    WendlandC2Kernel<T, D> kernel;
+    AcousticRiemannSolver<T> riemann;
+    T wall_volume;
+
+    UNISPH_HOST_DEVICE void interaction(Index i, Real) const {
+      const Vec<T, D> v_i = velocity[i];
+      const T p_i = pressure[i];
+      const T rho_i = density[i];
+      Vec<T, D> force{};  // sum of 2 p* dW V_j e_ij
+      inner.for_each_neighbor(i, [&](Index j, const NeighborPair<T, D>& pair) {
+        const T r = pair.distance();
+        const Vec<T, D> e = pair.r_ij * (T(1) / r);
+        const T jump = -dot(v_i - velocity[j], e);
+        const T weight = kernel.derivative(r) * mass[j] / density[j];
+        force += e * (riemann.twice_interface_pressure(p_i, pressure[j], jump) * weight);
+      });
+      const Vec<T, D> a0 = prior_acceleration[i];
+      contact.for_each_neighbor(i, [&](Index w, const NeighborPair<T, D>& pair) {
+        const T r = pair.distance();
+        const Vec<T, D> e = pair.r_ij * (T(1) / r);
+        const Vec<T, D> n = wall_normal[w];
+        const T pushed = -dot(a0, n);
+        const T depth = dot(pair.r_ij, n);
+        const T p_w = p_i + rho_i * (pushed > T(0) ? pushed : T(0)) * (depth > T(0) ? depth : T(0));
+        const T jump = -T(2) * dot(v_i, n);
+        force += e * (riemann.twice_interface_pressure(p_i, p_w, jump) * kernel.derivative(r) * wall_volume);
+      });
+      acceleration[i] = force * (-T(1) / rho_i);
+    }
+  };
+  static_assert(std::is_trivially_copyable_v<Kernel>, "Kernels are copied to the device byte for byte.");
+
+  Kernel make_kernel(KernelContext& c) {
+    return {inner_.search(c), contact_.search(c), c.read(fluid_.velocity), c.read(fluid_.prior_acceleration),
+            c.read(wall_.normal), c.read(fluid_.density), c.read(fluid_.pressure), c.read(fluid_.mass),
+            c.write(fluid_.acceleration), kernel_, riemann_, wall_volume_};
+  }
+  Index size() const { return fluid_.size(); }
+
+ private:
+  FluidVariables<T, D>& fluid_;
+  WallVariables<T, D>& wall_;
+  InnerRelation<T, D>& inner_;
+  ContactRelation<T, D>& contact_;
+  WendlandC2Kernel<T, D> kernel_;
+  AcousticRiemannSolver<T> riemann_;
+  T wall_volume_;
+};
+
+template <class T, int D>
+class VelocityUpdate : public UpdateDynamics<VelocityUpdate<T, D>> {
+ public:
+  explicit VelocityUpdate(FluidVariables<T, D>& fluid) : fluid_(fluid) {}
+  struct Kernel {
+    View<Vec<T, D>> position, velocity;
+    View<const Vec<T, D>> acceleration, prior_acceleration;
+    UNISPH_HOST_DEVICE void update(Index i, Real dt_real) const {
+      const T dt = T(dt_real);
+      const Vec<T, D> v = velocity[i] + (acceleration[i] + prior_acceleration[i]) * dt;
+      velocity[i] = v;
+      position[i] += v * (T(0.5) * dt);
+    }
+  };
+  static_assert(std::is_trivially_copyable_v<Kernel>, "Kernels are copied to the device byte for byte.");
+  Kernel make_kernel(KernelContext& c) {
+    return {c.read_write(fluid_.position), c.read_write(fluid_.velocity), c.read(fluid_.acceleration),
+            c.read(fluid_.prior_acceleration)};
+  }
+  Index size() const { return fluid_.size(); }
+
+ private:
+  FluidVariables<T, D>& fluid_;
+};
+
+}  // namespace unisph::sph

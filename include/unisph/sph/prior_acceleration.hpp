@@ -1,0 +1,70 @@
+#pragma once
+// The acceleration that stays fixed over an advection step: gravity (a vector in the
+// user's units) plus, when the dynamic viscosity mu > 0, the laminar viscous term
+//   a_i += sum_j 2 mu (v_i - v_j) / (rho_i (r_ij + 0.01 h)) dW_ij V_j
+// with no-slip walls (the wall velocity is zero).
+#include <type_traits>
+
+#include "unisph/dynamics/local_dynamics.hpp"
+#include "unisph/neighbor/contact_relation.hpp"
+#include "unisph/neighbor/inner_relation.hpp"
+#include "unisph/sph/fluid_variables.hpp"
+#include "unisph/sph/wendland_kernel.hpp"
+
+namespace unisph::sph {
+
+template <class T, int D>
+class PriorAcceleration : public InteractionDynamics<PriorAcceleration<T, D>> {
+ public:
+  PriorAcceleration(FluidVariables<T, D>& fluid, InnerRelation<T, D>& inner, ContactRelation<T, D>& contact,
+                    WendlandC2Kernel<T, D> kernel, Vec<T, D> gravity, T viscosity, T wall_volume)
+      : fluid_(fluid), inner_(inner), contact_(contact), kernel_(kernel), gravity_(gravity), viscosity_(viscosity),
+        wall_volume_(wall_volume) {}
+
+  struct Kernel {
+    NeighborSearch<T, D> inner, contact;
+    View<const Vec<T, D>> velocity;
+    View<const T> density, mass;
+    View<Vec<T, D>> prior_acceleration;
+    WendlandC2Kernel<T, D> kernel;
+    Vec<T, D> gravity;
+    T viscosity, wall_volume;
+
+    UNISPH_HOST_DEVICE void interaction(Index i, Real) const {
+      Vec<T, D> a = gravity;
+      if (viscosity > T(0)) {
+        const Vec<T, D> v_i = velocity[i];
+        const T regularisation = T(0.01) * kernel.h;
+        Vec<T, D> sum{};
+        inner.for_each_neighbor(i, [&](Index j, const NeighborPair<T, D>& p) {
+          const T r = p.distance();
+          sum += (v_i - velocity[j]) * (kernel.derivative(r) * mass[j] / density[j] / (r + regularisation));
+        });
+        contact.for_each_neighbor(i, [&](Index, const NeighborPair<T, D>& p) {
+          const T r = p.distance();
+          sum += v_i * (kernel.derivative(r) * wall_volume / (r + regularisation));
+        });
+        a += sum * (T(2) * viscosity / density[i]);
+      }
+      prior_acceleration[i] = a;
+    }
+  };
+  static_assert(std::is_trivially_copyable_v<Kernel>, "Kernels are copied to the device byte for byte.");
+
+  Kernel make_kernel(KernelContext& c) {
+    return {inner_.search(c), contact_.search(c), c.read(fluid_.velocity), c.read(fluid_.density), c.read(fluid_.mass),
+            c.write(fluid_.prior_acceleration), kernel_, gravity_, viscosity_, wall_volume_};
+  }
+  Index size() const { return fluid_.size(); }
+
+ private:
+  FluidVariables<T, D>& fluid_;
+  InnerRelation<T, D>& inner_;
+  ContactRelation<T, D>& contact_;
+  WendlandC2Kernel<T, D> kernel_;
+  Vec<T, D> gravity_;
+  T viscosity_;
+  T wall_volume_;
+};
+
+}  // namespace unisph::sph

@@ -1,0 +1,78 @@
+#pragma once
+// The weakly compressible SPH solver of a closed-tank free-surface case, with dual-criteria
+// time stepping:
+//
+//   each advection step Dt = 0.25 h / max(U, |v|max, mu/(rho0 h)):
+//     density summation with free-surface correction; prior acceleration (gravity, viscosity);
+//     acoustic steps dt = 0.6 h / (c0 + |v|max) until Dt is covered, each:
+//       pressure relaxation (Riemann, limiter) -> velocity, density relaxation (Riemann) -> density;
+//     particle sort (cell order, every `sort_every` advection steps), cell lists and relations rebuilt.
+//
+// The floating type T (float or double) and the dimension D are template parameters; the
+// four combinations are compiled once in the library (src/sph/). The policy is chosen at
+// run time. Every member that launches kernels dispatches on it.
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "unisph/core/error.hpp"
+#include "unisph/exec/policy.hpp"
+#include "unisph/particles/body.hpp"
+#include "unisph/sph/case_description.hpp"
+
+namespace unisph::sph {
+
+// A run that went wrong (a non-finite value, a particle out of the domain).
+class SimulationError : public Error {
+ public:
+  using Error::Error;
+};
+
+struct ObserverSample {
+  double time = 0;
+  double front = 0;  // largest x of the fluid + dx/2
+  double kinetic_energy = 0;
+  double potential_energy = 0;  // sum -m g.x
+  double mass = 0;
+  std::vector<double> probe_pressure;
+};
+
+template <class T, int D>
+class WeaklyCompressibleSolver {
+ public:
+  static_assert(std::is_floating_point_v<T>, "The solver computes in float or double.");
+  static_assert(D == 2 || D == 3, "The solver is built for 2D and 3D cases.");
+
+  WeaklyCompressibleSolver(const CaseDescription& description, PolicyKind policy);
+  ~WeaklyCompressibleSolver();
+  WeaklyCompressibleSolver(const WeaklyCompressibleSolver&) = delete;
+  WeaklyCompressibleSolver& operator=(const WeaklyCompressibleSolver&) = delete;
+
+  // One advection step (with its acoustic steps), shortened so as not to pass `until`.
+  void advance(double until);
+  ObserverSample observe();
+
+  double time() const;
+  std::uint64_t advection_steps() const;
+  std::uint64_t acoustic_steps() const;
+  Index fluid_count() const;
+  Index wall_count() const;
+  double smoothing_length() const;
+  PolicyKind policy() const;
+  const CaseDescription& description() const;
+
+  Body<T, D>& fluid_body();
+  Body<T, D>& wall_body();
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+extern template class WeaklyCompressibleSolver<float, 2>;
+extern template class WeaklyCompressibleSolver<double, 2>;
+extern template class WeaklyCompressibleSolver<float, 3>;
+extern template class WeaklyCompressibleSolver<double, 3>;
+
+}  // namespace unisph::sph

@@ -1,0 +1,282 @@
+#pragma once
+// Definitions of WeaklyCompressibleSolver, included only by the library's instantiation
+// files (src/sph/), which nvcc compiles where CUDA is on.
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "unisph/neighbor/cell_linked_list.hpp"
+#include "unisph/neighbor/contact_relation.hpp"
+#include "unisph/neighbor/inner_relation.hpp"
+#include "unisph/neighbor/particle_sorter.hpp"
+#include "unisph/sph/density_relaxation.hpp"
+#include "unisph/sph/density_summation.hpp"
+#include "unisph/sph/observers.hpp"
+#include "unisph/sph/pressure_relaxation.hpp"
+#include "unisph/sph/prior_acceleration.hpp"
+#include "unisph/sph/tank_particles.hpp"
+#include "unisph/sph/time_step.hpp"
+#include "unisph/sph/weakly_compressible_solver.hpp"
+
+namespace unisph::sph {
+
+template <class T, int D>
+struct WeaklyCompressibleSolver<T, D>::State {
+  using Vector = Vec<T, D>;
+
+  static Box<T, D> domain_of(const CaseDescription& c) {
+    Box<T, D> box{};
+    for (int a = 0; a < D; ++a) {
+      box.lower[a] = T(-wall_layers * c.dx);
+      box.upper[a] = T(c.tank[a] + wall_layers * c.dx);
+    }
+    return box;
+  }
+  static Vector gravity_of(const CaseDescription& c) {
+    Vector g{};
+    g[1] = T(-c.gravity);
+    return g;
+  }
+  static T volume_of(double dx) {
+    double v = 1;
+    for (int a = 0; a < D; ++a) v *= dx;
+    return T(v);
+  }
+  static const CaseDescription& checked(const CaseDescription& c) {
+    if (c.dimension != D)
+      throw Error("case '" + c.name + "' is " + std::to_string(c.dimension) + "D; this solver is " + std::to_string(D) + "D");
+    if (int(c.tank.size()) != D || int(c.column.size()) != D)
+      throw Error("case '" + c.name + "': tank and column need " + std::to_string(D) + " sizes");
+    return c;
+  }
+
+  State(const CaseDescription& c, PolicyKind kind)
+      : description(checked(c)),
+        policy(kind),
+        kernel(WendlandC2Kernel<T, D>::from_spacing(T(c.dx))),
+        particles(make_tank_particles<T, D>(c.tank, c.column, c.dx)),
+        domain(domain_of(c)),
+        fluid_body("Water", domain, particles.fluid.size()),
+        wall_body("Wall", domain, particles.wall.size()),
+        fluid(fluid_body),
+        wall(wall_body),
+        fluid_cells(fluid.position, domain, kernel.cutoff()),
+        wall_cells(wall.position, domain, kernel.cutoff()),
+        inner(fluid_cells),
+        contact(fluid.position, wall_cells),
+        fluid_sorter(fluid_body.particles(), fluid.position, fluid_cells.grid(), 1, SortOrder::cell_index),
+        wall_sorter(wall_body.particles(), wall.position, wall_cells.grid(), 1, SortOrder::cell_index),
+        eos{T(c.density), T(c.sound_speed)},
+        riemann(AcousticRiemannSolver<T>::make(T(c.density), T(c.sound_speed))),
+        wall_volume(volume_of(c.dx)),
+        criteria{double(kernel.h), c.reference_velocity, c.sound_speed, c.viscosity / c.density},
+        density_summation(fluid, inner, contact, kernel, T(c.dx), T(c.density)),
+        prior_acceleration(fluid, inner, contact, kernel, gravity_of(c), T(c.viscosity), wall_volume),
+        pressure_start(fluid, eos),
+        pressure_relaxation(fluid, wall, inner, contact, kernel, riemann, wall_volume),
+        velocity_update(fluid),
+        density_relaxation(fluid, wall, inner, contact, kernel, riemann, wall_volume),
+        density_update(fluid),
+        max_speed(fluid),
+        front(fluid, 0, T(c.dx)),
+        energy(fluid, gravity_of(c)),
+        total_mass(fluid) {
+    if (particles.fluid.empty()) throw Error("case '" + c.name + "': the column holds no particle at dx = " + std::to_string(c.dx));
+    for (const ProbeDescription& p : c.probes) {
+      Vector x{};
+      for (int a = 0; a < D; ++a) x[a] = T(p.position[a]);
+      probes.push_back(std::make_unique<PressureProbe<T, D>>(fluid, kernel, x));
+    }
+    initialise();
+  }
+
+  void initialise() {
+    const Index n = particles.fluid.size();
+    {
+      View<Vector> x = fluid.position.write(MemorySpace::host);
+      View<Vector> v = fluid.velocity.write(MemorySpace::host);
+      View<T> rho = fluid.density.write(MemorySpace::host);
+      View<T> p = fluid.pressure.write(MemorySpace::host);
+      View<T> m = fluid.mass.write(MemorySpace::host);
+      View<T> drho = fluid.density_change_rate.write(MemorySpace::host);
+      const double depth_of_surface = description.column[1];
+      for (Index i = 0; i < n; ++i) {
+        x[i] = particles.fluid[i];
+        v[i] = Vector{};
+        const double pressure =
+            description.hydrostatic ? description.density * description.gravity * (depth_of_surface - double(x[i][1])) : 0.0;
+        p[i] = T(pressure);
+        rho[i] = eos.density(T(pressure));
+        m[i] = rho[i] * wall_volume;
+        drho[i] = T(0);
+      }
+    }
+    {
+      View<Vector> x = wall.position.write(MemorySpace::host);
+      View<Vector> nrm = wall.normal.write(MemorySpace::host);
+      for (Index i = 0; i < particles.wall.size(); ++i) {
+        x[i] = particles.wall[i];
+        nrm[i] = particles.wall_normal[i];
+      }
+    }
+    particles = {};
+    visit_policy(policy, [&](auto p) {
+      wall_sorter.sort(p);
+      wall_cells.build(p);
+      fluid_sorter.sort(p);
+      rebuild(p);
+    });
+  }
+
+  template <class P>
+  void rebuild(P p) {
+    fluid_cells.build(p);
+    inner.update(p);
+    contact.update(p);
+    const CellListReport report = fluid_cells.report();
+    if (report.out_of_box != 0 || report.non_finite != 0) diagnose("a fluid particle left the domain");
+  }
+
+  // Finds the first particle with a non-finite value or outside the domain and throws.
+  [[noreturn]] void diagnose(const std::string& what) {
+    std::ostringstream s;
+    s << "step " << advection_steps << " (t = " << time << "): ";
+    View<const Vector> x = fluid.position.read(MemorySpace::host);
+    View<const Vector> v = fluid.velocity.read(MemorySpace::host);
+    View<const T> rho = fluid.density.read(MemorySpace::host);
+    View<const T> pr = fluid.pressure.read(MemorySpace::host);
+    View<const std::uint64_t> id = fluid_body.particles().ids().read(MemorySpace::host);
+    for (Index i = 0; i < x.size(); ++i) {
+      const char* variable = nullptr;
+      for (int a = 0; a < D && !variable; ++a) {
+        if (!std::isfinite(double(x[i][a]))) variable = "Position (not finite)";
+        else if (!std::isfinite(double(v[i][a]))) variable = "Velocity (not finite)";
+      }
+      if (!variable && !std::isfinite(double(rho[i]))) variable = "Density (not finite)";
+      if (!variable && !std::isfinite(double(pr[i]))) variable = "Pressure (not finite)";
+      if (!variable && !domain.contains(x[i])) variable = "Position (outside the domain)";
+      if (variable) {
+        s << "variable '" << variable << "' of fluid particle id " << id[i] << " (index " << i << "), at (";
+        for (int a = 0; a < D; ++a) s << (a ? ", " : "") << double(x[i][a]);
+        s << "), velocity (";
+        for (int a = 0; a < D; ++a) s << (a ? ", " : "") << double(v[i][a]);
+        s << ")";
+        throw SimulationError(s.str());
+      }
+    }
+    s << what;
+    throw SimulationError(s.str());
+  }
+
+  void advance(double until) {
+    visit_policy(policy, [&](auto p) {
+      double speed = double(max_speed.exec(p));
+      if (!std::isfinite(speed)) diagnose("the largest speed is not finite");
+      double advection_dt = criteria.advection_step(speed);
+      const double remaining_time = until - time;
+      if (remaining_time <= 0) return;
+      if (advection_dt > remaining_time) advection_dt = remaining_time;
+      density_summation.exec(p);
+      prior_acceleration.exec(p);
+      double relaxed = 0;
+      while (advection_dt - relaxed > 1e-12 * advection_dt) {
+        double dt = criteria.acoustic_step(speed);
+        if (dt >= advection_dt - relaxed) dt = advection_dt - relaxed;
+        pressure_start.exec(p, Real(dt));
+        pressure_relaxation.exec(p, Real(dt));
+        velocity_update.exec(p, Real(dt));
+        density_relaxation.exec(p, Real(dt));
+        density_update.exec(p, Real(dt));
+        relaxed += dt;
+        ++acoustic_steps;
+        speed = double(max_speed.exec(p));
+        if (!std::isfinite(speed)) diagnose("the largest speed is not finite");
+      }
+      time += relaxed;
+      ++advection_steps;
+      if (advection_steps % std::uint64_t(description.sort_every) == 0) fluid_sorter.sort(p);
+      rebuild(p);
+    });
+  }
+
+  ObserverSample observe() {
+    ObserverSample s;
+    s.time = time;
+    visit_policy(policy, [&](auto p) {
+      s.front = double(front.exec(p));
+      const Vec<T, 2> e = energy.exec(p);
+      s.kinetic_energy = double(e[0]);
+      s.potential_energy = double(e[1]);
+      s.mass = double(total_mass.exec(p));
+      for (auto& probe : probes) s.probe_pressure.push_back(double(probe->exec(p)));
+    });
+    return s;
+  }
+
+  CaseDescription description;
+  PolicyKind policy;
+  WendlandC2Kernel<T, D> kernel;
+  TankParticles<T, D> particles;
+  Box<T, D> domain;
+  Body<T, D> fluid_body;
+  Body<T, D> wall_body;
+  FluidVariables<T, D> fluid;
+  WallVariables<T, D> wall;
+  CellLinkedList<T, D> fluid_cells;
+  CellLinkedList<T, D> wall_cells;
+  InnerRelation<T, D> inner;
+  ContactRelation<T, D> contact;
+  ParticleSorter<T, D> fluid_sorter;
+  ParticleSorter<T, D> wall_sorter;
+  WeaklyCompressibleEquationOfState<T> eos;
+  AcousticRiemannSolver<T> riemann;
+  T wall_volume;
+  TimeStepCriteria criteria;
+  DensitySummationFreeSurface<T, D> density_summation;
+  PriorAcceleration<T, D> prior_acceleration;
+  PressureRelaxationStart<T, D> pressure_start;
+  PressureRelaxation<T, D> pressure_relaxation;
+  VelocityUpdate<T, D> velocity_update;
+  DensityRelaxation<T, D> density_relaxation;
+  DensityUpdate<T, D> density_update;
+  MaximumSpeed<T, D> max_speed;
+  FrontPosition<T, D> front;
+  MechanicalEnergy<T, D> energy;
+  TotalMass<T, D> total_mass;
+  std::vector<std::unique_ptr<PressureProbe<T, D>>> probes;
+  double time = 0;
+  std::uint64_t advection_steps = 0;
+  std::uint64_t acoustic_steps = 0;
+};
+
+template <class T, int D>
+WeaklyCompressibleSolver<T, D>::WeaklyCompressibleSolver(const CaseDescription& description, PolicyKind policy)
+    : state_(std::make_unique<State>(description, policy)) {}
+template <class T, int D>
+WeaklyCompressibleSolver<T, D>::~WeaklyCompressibleSolver() = default;
+template <class T, int D>
+void WeaklyCompressibleSolver<T, D>::advance(double until) { state_->advance(until); }
+template <class T, int D>
+ObserverSample WeaklyCompressibleSolver<T, D>::observe() { return state_->observe(); }
+template <class T, int D>
+double WeaklyCompressibleSolver<T, D>::time() const { return state_->time; }
+template <class T, int D>
+std::uint64_t WeaklyCompressibleSolver<T, D>::advection_steps() const { return state_->advection_steps; }
+template <class T, int D>
+std::uint64_t WeaklyCompressibleSolver<T, D>::acoustic_steps() const { return state_->acoustic_steps; }
+template <class T, int D>
+Index WeaklyCompressibleSolver<T, D>::fluid_count() const { return state_->fluid.size(); }
+template <class T, int D>
+Index WeaklyCompressibleSolver<T, D>::wall_count() const { return state_->wall.size(); }
+template <class T, int D>
+double WeaklyCompressibleSolver<T, D>::smoothing_length() const { return double(state_->kernel.h); }
+template <class T, int D>
+PolicyKind WeaklyCompressibleSolver<T, D>::policy() const { return state_->policy; }
+template <class T, int D>
+const CaseDescription& WeaklyCompressibleSolver<T, D>::description() const { return state_->description; }
+template <class T, int D>
+Body<T, D>& WeaklyCompressibleSolver<T, D>::fluid_body() { return state_->fluid_body; }
+template <class T, int D>
+Body<T, D>& WeaklyCompressibleSolver<T, D>::wall_body() { return state_->wall_body; }
+
+}  // namespace unisph::sph

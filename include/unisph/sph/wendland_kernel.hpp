@@ -1,0 +1,66 @@
+#pragma once
+// Wendland C2 smoothing kernel in 2D and 3D with smoothing length h = 1.3 dx and cutoff 2h:
+//   W(q) = alpha / h^D (1 - q/2)^4 (1 + 2q),  q = r / h < 2,
+// alpha = 7 / (4 pi) in 2D and 21 / (16 pi) in 3D, so that W integrates to 1.
+#include <cmath>
+#include <type_traits>
+
+#include "unisph/core/config.hpp"
+
+namespace unisph::sph {
+
+template <class T, int D>
+struct WendlandC2Kernel {
+  static_assert(std::is_floating_point_v<T>, "The Wendland kernel is evaluated in float or double.");
+  static_assert(D == 2 || D == 3, "The Wendland C2 kernel is implemented for 2D and 3D.");
+
+  static constexpr T smoothing_length_ratio = T(1.3);  // h / dx
+
+  T h = T(1);
+  T inverse_h = T(1);
+  T normalisation = T(0);  // alpha / h^D
+
+  static WendlandC2Kernel from_spacing(T dx) {
+    WendlandC2Kernel k;
+    k.h = smoothing_length_ratio * dx;
+    k.inverse_h = T(1) / k.h;
+    const T pi = T(3.14159265358979323846);
+    k.normalisation = D == 2 ? T(7) / (T(4) * pi * k.h * k.h) : T(21) / (T(16) * pi * k.h * k.h * k.h);
+    return k;
+  }
+
+  UNISPH_HOST_DEVICE T cutoff() const { return T(2) * h; }
+
+  UNISPH_HOST_DEVICE T value(T r) const {
+    const T q = r * inverse_h;
+    if (q >= T(2)) return T(0);
+    const T t = T(1) - T(0.5) * q;
+    const T t2 = t * t;
+    return normalisation * t2 * t2 * (T(1) + T(2) * q);
+  }
+
+  // dW/dr (negative inside the support): -5 q (1 - q/2)^3 alpha / h^(D+1).
+  UNISPH_HOST_DEVICE T derivative(T r) const {
+    const T q = r * inverse_h;
+    if (q >= T(2)) return T(0);
+    const T t = T(1) - T(0.5) * q;
+    return -T(5) * q * t * t * t * normalisation * inverse_h;
+  }
+
+  // Sum of W over a full square/cubic lattice of spacing dx around a particle (itself
+  // included): the number density of a particle inside the fluid at rest. Density
+  // summation divides by it so that a lattice at rest has exactly the reference density.
+  T lattice_sum(T dx) const {
+    const int reach = static_cast<int>(std::ceil(cutoff() / dx)) + 1;
+    double sum = 0;
+    for (int a = -reach; a <= reach; ++a)
+      for (int b = -reach; b <= reach; ++b)
+        for (int c = (D == 3 ? -reach : 0); c <= (D == 3 ? reach : 0); ++c) {
+          const double r = std::sqrt(double(a * a + b * b + c * c)) * double(dx);
+          sum += double(value(T(r)));
+        }
+    return T(sum);
+  }
+};
+
+}  // namespace unisph::sph

@@ -1,0 +1,246 @@
+// Case-file reader: TOML through toml++ (header-only, Debian's libtomlplusplus-dev). Every
+// key is checked against the schema below, so a misspelt key is an error rather than a
+// silently ignored setting.
+#include "unisph/sph/case_file.hpp"
+
+#include <cctype>
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <sstream>
+
+#define TOML_EXCEPTIONS 1
+#define TOML_HEADER_ONLY 1  // Debian ships toml++ as a shared library too; header-only keeps it out of the link of unisph users
+#include <toml++/toml.h>
+
+namespace unisph::sph {
+namespace {
+
+struct Reader {
+  const std::string& source;
+
+  [[noreturn]] void fail(const toml::node* node, const std::string& key, const std::string& what) const {
+    std::string line = "?";
+    if (node && node->source().begin.line > 0) line = std::to_string(node->source().begin.line);
+    throw CaseFileError(source + ":" + line + ": key '" + key + "': " + what);
+  }
+  [[noreturn]] void fail_at(const toml::table& table, const std::string& key, const std::string& what) const {
+    fail(&table, key, what);
+  }
+
+  const toml::table& table(const toml::table& root, const std::string& name, bool required) const {
+    static const toml::table empty;
+    const toml::node* node = root.get(name);
+    if (!node) {
+      if (required) fail_at(root, name, "missing table [" + name + "]");
+      return empty;
+    }
+    if (!node->is_table()) fail(node, name, "must be a table");
+    return *node->as_table();
+  }
+
+  void only_keys(const toml::table& table, const std::string& prefix, std::initializer_list<std::string_view> known) const {
+    for (const auto& [key, node] : table) {
+      bool ok = false;
+      for (auto k : known) ok = ok || key.str() == k;
+      if (!ok) {
+        std::string list;
+        for (auto k : known) list += (list.empty() ? "" : ", ") + std::string(k);
+        fail(&node, prefix + std::string(key.str()), "unknown key (known here: " + list + ")");
+      }
+    }
+  }
+
+  double number(const toml::table& table, const std::string& prefix, const std::string& key, const double* fallback) const {
+    const toml::node* node = table.get(key);
+    if (!node) {
+      if (fallback) return *fallback;
+      fail_at(table, prefix + key, "missing value");
+    }
+    double value = 0;
+    if (auto i = node->as_integer())
+      value = double(i->get());
+    else if (auto f = node->as_floating_point())
+      value = f->get();
+    else
+      fail(node, prefix + key, std::string("must be a number (it is a ") + type_name(*node) + ")");
+    if (!std::isfinite(value)) fail(node, prefix + key, "must be finite");
+    return value;
+  }
+  double positive(const toml::table& table, const std::string& prefix, const std::string& key,
+                  const double* fallback = nullptr) const {
+    const double v = number(table, prefix, key, fallback);
+    if (!(v > 0)) fail(table.get(key) ? table.get(key) : &table, prefix + key, "must be positive (it is " + format(v) + ")");
+    return v;
+  }
+  double non_negative(const toml::table& table, const std::string& prefix, const std::string& key, double fallback) const {
+    const double v = number(table, prefix, key, &fallback);
+    if (v < 0) fail(table.get(key), prefix + key, "must not be negative (it is " + format(v) + ")");
+    return v;
+  }
+  std::string text(const toml::table& table, const std::string& prefix, const std::string& key, const std::string* fallback) const {
+    const toml::node* node = table.get(key);
+    if (!node) {
+      if (fallback) return *fallback;
+      fail_at(table, prefix + key, "missing value");
+    }
+    if (auto s = node->as_string()) return s->get();
+    fail(node, prefix + key, std::string("must be a string (it is a ") + type_name(*node) + ")");
+  }
+  long long integer(const toml::table& table, const std::string& prefix, const std::string& key, const long long* fallback) const {
+    const toml::node* node = table.get(key);
+    if (!node) {
+      if (fallback) return *fallback;
+      fail_at(table, prefix + key, "missing value");
+    }
+    if (auto i = node->as_integer()) return i->get();
+    fail(node, prefix + key, std::string("must be an integer (it is a ") + type_name(*node) + ")");
+  }
+  std::vector<double> vector(const toml::table& table, const std::string& prefix, const std::string& key, int size,
+                             bool positive_entries) const {
+    const toml::node* node = table.get(key);
+    if (!node) fail_at(table, prefix + key, "missing value");
+    const toml::array* array = node->as_array();
+    if (!array) fail(node, prefix + key, std::string("must be an array of ") + std::to_string(size) + " numbers (it is a " + type_name(*node) + ")");
+    if (int(array->size()) != size)
+      fail(node, prefix + key, "must have " + std::to_string(size) + " entries, one per axis (it has " + std::to_string(array->size()) + ")");
+    std::vector<double> out;
+    for (const toml::node& e : *array) {
+      double v = 0;
+      if (auto i = e.as_integer())
+        v = double(i->get());
+      else if (auto f = e.as_floating_point())
+        v = f->get();
+      else
+        fail(node, prefix + key, std::string("entries must be numbers (one is a ") + type_name(e) + ")");
+      if (!std::isfinite(v)) fail(node, prefix + key, "entries must be finite");
+      if (positive_entries && !(v > 0)) fail(node, prefix + key, "entries must be positive (one is " + format(v) + ")");
+      out.push_back(v);
+    }
+    return out;
+  }
+
+  static const char* type_name(const toml::node& node) {
+    switch (node.type()) {
+      case toml::node_type::string: return "string";
+      case toml::node_type::integer: return "integer";
+      case toml::node_type::floating_point: return "floating-point number";
+      case toml::node_type::boolean: return "boolean";
+      case toml::node_type::array: return "array";
+      case toml::node_type::table: return "table";
+      default: return "date or time";
+    }
+  }
+  static std::string format(double v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
+  }
+};
+
+}  // namespace
+
+CaseDescription parse_case(std::string_view text, const std::string& source) {
+  toml::table root;
+  try {
+    root = toml::parse(text, source);
+  } catch (const toml::parse_error& e) {
+    std::string what(e.description());
+    for (char& c : what)
+      if (c == '\n') c = ' ';
+    throw CaseFileError(source + ":" + std::to_string(e.source().begin.line) + ": not valid TOML: " + what);
+  }
+  Reader r{source};
+  r.only_keys(root, "", {"case", "geometry", "fluid", "physics", "initial", "time", "report", "probe"});
+  CaseDescription c;
+  c.source = source;
+
+  const toml::table& case_table = r.table(root, "case", true);
+  r.only_keys(case_table, "case.", {"name", "dimension"});
+  c.name = r.text(case_table, "case.", "name", nullptr);
+  const long long two = 2;
+  const long long dimension = r.integer(case_table, "case.", "dimension", &two);
+  if (dimension != 2 && dimension != 3)
+    r.fail(case_table.get("dimension"), "case.dimension", "must be 2 or 3 (it is " + std::to_string(dimension) + ")");
+  c.dimension = int(dimension);
+
+  const toml::table& geometry = r.table(root, "geometry", true);
+  r.only_keys(geometry, "geometry.", {"dx", "tank", "column"});
+  c.dx = r.positive(geometry, "geometry.", "dx");
+  c.tank = r.vector(geometry, "geometry.", "tank", c.dimension, true);
+  c.column = r.vector(geometry, "geometry.", "column", c.dimension, true);
+  for (int a = 0; a < c.dimension; ++a)
+    if (c.column[a] > c.tank[a])
+      r.fail(geometry.get("column"), "geometry.column",
+             "the column (" + Reader::format(c.column[a]) + " along axis " + std::to_string(a) +
+                 ") is larger than the tank (" + Reader::format(c.tank[a]) + ")");
+  for (int a = 0; a < c.dimension; ++a)
+    if (c.column[a] < c.dx)
+      r.fail(geometry.get("column"), "geometry.column",
+             "the column (" + Reader::format(c.column[a]) + " along axis " + std::to_string(a) +
+                 ") is thinner than one particle spacing dx = " + Reader::format(c.dx));
+
+  const toml::table& fluid = r.table(root, "fluid", true);
+  r.only_keys(fluid, "fluid.", {"density", "sound_speed", "reference_velocity", "viscosity"});
+  c.density = r.positive(fluid, "fluid.", "density");
+  c.sound_speed = r.positive(fluid, "fluid.", "sound_speed");
+  c.reference_velocity = r.positive(fluid, "fluid.", "reference_velocity");
+  c.viscosity = r.non_negative(fluid, "fluid.", "viscosity", 0.0);
+
+  const toml::table& physics = r.table(root, "physics", true);
+  r.only_keys(physics, "physics.", {"gravity"});
+  c.gravity = r.positive(physics, "physics.", "gravity");
+
+  const toml::table& initial = r.table(root, "initial", false);
+  r.only_keys(initial, "initial.", {"state"});
+  const std::string rest = "rest";
+  const std::string state = r.text(initial, "initial.", "state", &rest);
+  if (state != "rest" && state != "hydrostatic")
+    r.fail(initial.get("state"), "initial.state", "must be \"rest\" or \"hydrostatic\" (it is \"" + state + "\")");
+  c.hydrostatic = state == "hydrostatic";
+
+  const toml::table& time = r.table(root, "time", true);
+  r.only_keys(time, "time.", {"end", "output_interval", "sort_every"});
+  c.end_time = r.positive(time, "time.", "end");
+  const double default_interval = c.end_time / 50;
+  c.output_interval = r.positive(time, "time.", "output_interval", &default_interval);
+  const long long one = 1;
+  const long long sort_every = r.integer(time, "time.", "sort_every", &one);
+  if (sort_every < 1) r.fail(time.get("sort_every"), "time.sort_every", "must be at least 1");
+  c.sort_every = int(sort_every);
+
+  const toml::table& report = r.table(root, "report", false);
+  r.only_keys(report, "report.", {"length", "time", "pressure"});
+  const double unit = 1;
+  c.length_scale = r.positive(report, "report.", "length", &unit);
+  c.time_scale = r.positive(report, "report.", "time", &unit);
+  c.pressure_scale = r.positive(report, "report.", "pressure", &unit);
+
+  if (const toml::node* probes = root.get("probe")) {
+    const toml::array* list = probes->as_array();
+    if (!list || !list->is_array_of_tables()) r.fail(probes, "probe", "must be an array of tables [[probe]]");
+    for (const toml::node& node : *list) {
+      const toml::table& p = *node.as_table();
+      r.only_keys(p, "probe.", {"name", "position"});
+      ProbeDescription probe;
+      probe.name = r.text(p, "probe.", "name", nullptr);
+      for (char ch : probe.name)
+        if (!(std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '.' || ch == '-'))
+          r.fail(p.get("name"), "probe.name", "use letters, digits, '_', '.' or '-' (it names a CSV column)");
+      probe.position = r.vector(p, "probe.", "position", c.dimension, false);
+      c.probes.push_back(probe);
+    }
+  }
+  return c;
+}
+
+CaseDescription read_case_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw CaseFileError(path + ": cannot open the case file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse_case(text.str(), path);
+}
+
+}  // namespace unisph::sph

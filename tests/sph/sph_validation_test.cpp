@@ -1,0 +1,254 @@
+// Validation of the weakly compressible SPH solver against experiments (label `validation`).
+// Each test runs a case from cases/ on `par` in double and prints its measured figure beside
+// its bound. The experimental series are in tests/data/validation/ (see its README).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "unisph/sph/case_file.hpp"
+#include "unisph/sph/weakly_compressible_solver.hpp"
+
+using namespace unisph;
+using namespace unisph::sph;
+
+namespace {
+
+struct Series {
+  std::vector<double> t, y;
+  // Linear interpolation; outside the data: NaN.
+  double at(double x) const {
+    if (t.empty() || x < t.front() || x > t.back()) return std::nan("");
+    const auto it = std::upper_bound(t.begin(), t.end(), x);
+    if (it == t.end()) return y.back();
+    const std::size_t k = std::size_t(it - t.begin());
+    if (k == 0) return y.front();
+    const double w = (x - t[k - 1]) / (t[k] - t[k - 1]);
+    return y[k - 1] + w * (y[k] - y[k - 1]);
+  }
+  // Trapezoidal mean over [a, b] of the piecewise linear series.
+  double window_mean(double a, double b) const {
+    std::vector<double> xs{a};
+    for (double x : t)
+      if (x > a && x < b) xs.push_back(x);
+    xs.push_back(b);
+    double integral = 0;
+    for (std::size_t k = 1; k < xs.size(); ++k) integral += 0.5 * (at(xs[k - 1]) + at(xs[k])) * (xs[k] - xs[k - 1]);
+    return integral / (b - a);
+  }
+};
+
+Series read_csv(const std::string& name) {
+  std::ifstream in(std::string(UNISPH_VALIDATION_DATA_DIR) + "/" + name);
+  EXPECT_TRUE(in.good()) << name;
+  Series s;
+  std::string line;
+  bool header = true;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    if (header) {
+      header = false;
+      continue;
+    }
+    std::istringstream fields(line);
+    std::string a, b;
+    std::getline(fields, a, ',');
+    std::getline(fields, b, ',');
+    s.t.push_back(std::stod(a));
+    s.y.push_back(std::stod(b));
+  }
+  return s;
+}
+
+CaseDescription load(const std::string& name) { return read_case_file(std::string(UNISPH_CASES_DIR) + "/" + name); }
+
+struct Run {
+  std::vector<ObserverSample> samples;
+  std::uint64_t acoustic_steps = 0;
+  Index fluid = 0;
+};
+
+template <class T, int D>
+Run run_case(const CaseDescription& c, double end, PolicyKind kind = PolicyKind::par,
+             std::vector<Vec<T, D>>* initial = nullptr, std::vector<Vec<T, D>>* final_positions = nullptr) {
+  WeaklyCompressibleSolver<T, D> solver(c, kind);
+  auto by_id = [&] {
+    auto x = solver.fluid_body().positions().to_vector();
+    auto id = solver.fluid_body().particles().ids().to_vector();
+    std::vector<Vec<T, D>> out(x.size());
+    for (std::size_t i = 0; i < x.size(); ++i) out[id[i]] = x[i];
+    return out;
+  };
+  if (initial) *initial = by_id();
+  Run run;
+  run.fluid = solver.fluid_count();
+  run.samples.push_back(solver.observe());
+  while (solver.time() < end * (1 - 1e-12)) {
+    solver.advance(end);
+    run.samples.push_back(solver.observe());
+  }
+  run.acoustic_steps = solver.acoustic_steps();
+  if (final_positions) *final_positions = by_id();
+  return run;
+}
+
+Series front_series(const Run& run, const CaseDescription& c) {
+  Series s;
+  for (const auto& o : run.samples) {
+    s.t.push_back(o.time / c.time_scale);
+    s.y.push_back(o.front / c.length_scale);
+  }
+  return s;
+}
+Series probe_series(const Run& run, const CaseDescription& c, std::size_t probe) {
+  Series s;
+  for (const auto& o : run.samples) {
+    s.t.push_back(o.time / c.time_scale);
+    s.y.push_back(o.probe_pressure[probe] / c.pressure_scale);
+  }
+  return s;
+}
+
+}  // namespace
+
+TEST(HostValidation, ColumnCollapse) {
+  const CaseDescription coarse = load("column_collapse_2d.toml");
+  CaseDescription fine = coarse;
+  fine.dx = coarse.dx / 2;
+  const Run run40 = run_case<double, 2>(coarse, coarse.end_time);
+  const Run run80 = run_case<double, 2>(fine, fine.end_time);
+  const Series z40 = front_series(run40, coarse), z80 = front_series(run80, fine);
+  const Series experiments[] = {read_csv("martin_moyce_1952_a1.125in.csv"), read_csv("martin_moyce_1952_a2.25in.csv"),
+                                read_csv("koshizuka_oka_1996_experiment.csv")};
+  for (const auto* run : {&z40, &z80}) {
+    double worst_low = 1e9, worst_high = 0;  // smallest z / lower bound, largest z / upper bound
+    int checked = 0;
+    for (std::size_t k = 0; k < run->t.size(); ++k) {
+      const double T = run->t[k];
+      if (T < 0.8 || T > 2.5) continue;
+      double lo = 1e9, hi = -1e9;
+      for (const Series& e : experiments) {
+        const double v = e.at(T);
+        if (std::isnan(v)) continue;
+        lo = std::min(lo, v);
+        hi = std::max(hi, v);
+      }
+      if (hi < lo) continue;
+      ++checked;
+      worst_low = std::min(worst_low, run->y[k] / (0.93 * lo));
+      worst_high = std::max(worst_high, run->y[k] / (1.07 * hi));
+      EXPECT_GE(run->y[k], 0.93 * lo) << "T = " << T;
+      EXPECT_LE(run->y[k], 1.07 * hi) << "T = " << T;
+    }
+    std::printf("[ measured ] column collapse L/dx = %s: front / (0.93 x lowest experiment) >= %.4f (bound 1), "
+                "front / (1.07 x highest experiment) <= %.4f (bound 1) over %d samples, T in [0.8, 2.5]\n",
+                run == &z40 ? "40" : "80", worst_low, worst_high, checked);
+  }
+  double worst = 0;
+  for (std::size_t k = 0; k < z40.t.size(); ++k) {
+    if (z40.t[k] < 0.8 || z40.t[k] > 2.5) continue;
+    worst = std::max(worst, std::abs(z40.y[k] - z80.at(z40.t[k])) / z80.at(z40.t[k]));
+  }
+  std::printf("[ measured ] column collapse: L/dx = 40 and 80 differ by at most %.2f %% (bound 3 %%); acoustic steps %llu and %llu\n",
+              100 * worst, (unsigned long long)run40.acoustic_steps, (unsigned long long)run80.acoustic_steps);
+  EXPECT_LE(worst, 0.03);
+}
+
+TEST(HostValidation, DamBreakWallPressure) {
+  const CaseDescription c = load("dambreak_2d.toml");
+  const Run run = run_case<double, 2>(c, c.end_time);
+  const Series p = probe_series(run, c, 0);
+  double crossing = std::nan("");
+  for (std::size_t k = 1; k < p.t.size(); ++k)
+    if (p.y[k] > 0.2) {
+      crossing = p.t[k - 1] + (0.2 - p.y[k - 1]) / (p.y[k] - p.y[k - 1]) * (p.t[k] - p.t[k - 1]);
+      break;
+    }
+  const Series buchner = read_csv("buchner_2002_wall_pressure.csv");
+  const double mean = p.window_mean(3.5, 5.0), reference = buchner.window_mean(3.5, 5.0);
+  std::printf("[ measured ] dam break: first p/(rho g H) > 0.2 at t sqrt(g/H) = %.3f (bound [2.30, 2.65])\n", crossing);
+  std::printf("[ measured ] dam break: mean p/(rho g H) over [3.5, 5] = %.4f, Buchner %.4f: %+.1f %% (bound +-15 %%)\n",
+              mean, reference, 100 * (mean / reference - 1));
+  EXPECT_GE(crossing, 2.30);
+  EXPECT_LE(crossing, 2.65);
+  EXPECT_NEAR(mean / reference, 1.0, 0.15);
+  // Conservation over the whole run.
+  const double e0 = run.samples.front().kinetic_energy + run.samples.front().potential_energy;
+  double largest = 0;
+  for (const auto& s : run.samples) {
+    largest = std::max(largest, (s.kinetic_energy + s.potential_energy) / e0);
+    EXPECT_EQ(s.mass, run.samples.front().mass);
+  }
+  std::printf("[ measured ] dam break to t = %.0f: largest mechanical energy / initial = %.5f (bound 1.005); mass "
+              "constant; %llu acoustic steps\n",
+              c.end_time, largest, (unsigned long long)run.acoustic_steps);
+  EXPECT_LE(largest, 1.005);
+}
+
+TEST(HostValidation, HydrostaticTank) {
+  const CaseDescription c = load("hydrostatic_2d.toml");
+  std::vector<Vec<double, 2>> x0, x1;
+  const Run run = run_case<double, 2>(c, c.end_time, PolicyKind::par, &x0, &x1);
+  const double rho_g_h = c.density * c.gravity * c.column[1];
+  const double depths[] = {0.25, 0.5, 0.75};
+  for (std::size_t k = 0; k < 3; ++k) {
+    const Series p = probe_series(run, c, k);
+    const double mean = p.window_mean(c.end_time - 5, c.end_time) * c.pressure_scale;
+    const double expected = rho_g_h * depths[k];
+    if (k == 0) {
+      std::printf("[ measured ] hydrostatic: depth 0.25 H: p = %.5f, rho g depth = %.5f, error %.5f rho g H (bound 0.01)\n",
+                  mean, expected, std::abs(mean - expected) / rho_g_h);
+      EXPECT_LE(std::abs(mean - expected), 0.01 * rho_g_h);
+    } else {
+      std::printf("[ measured ] hydrostatic: depth %.2f H: p = %.5f, rho g depth = %.5f, error %.2f %% (bound 2 %%)\n",
+                  depths[k], mean, expected, 100 * std::abs(mean / expected - 1));
+      EXPECT_LE(std::abs(mean / expected - 1), 0.02);
+    }
+  }
+  const ObserverSample& last = run.samples.back();
+  // Potential energy measured from the floor (y = 0): sum m g y.
+  std::printf("[ measured ] hydrostatic: kinetic / potential energy at t = %.0f: %.2e (bound 1e-3)\n", c.end_time,
+              last.kinetic_energy / last.potential_energy);
+  EXPECT_LT(last.kinetic_energy, 1e-3 * last.potential_energy);
+  std::size_t moved = 0;
+  for (std::size_t i = 0; i < x0.size(); ++i) moved += norm(x1[i] - x0[i]) >= c.dx;
+  const double fraction = 1.0 - double(moved) / double(x0.size());
+  std::printf("[ measured ] hydrostatic: %.2f %% of the particles moved less than dx (bound 99 %%)\n", 100 * fraction);
+  EXPECT_GE(fraction, 0.99);
+}
+
+TEST(HostValidation, SiMatchesDimensionless) {
+  const CaseDescription a = load("dambreak_2d.toml");
+  const CaseDescription b = load("dambreak_2d_si.toml");
+  WeaklyCompressibleSolver<double, 2> dimensionless(a, PolicyKind::seq), si(b, PolicyKind::seq);
+  while (dimensionless.acoustic_steps() < 200) dimensionless.advance(1e9);
+  while (si.acoustic_steps() < dimensionless.acoustic_steps()) si.advance(1e9);
+  ASSERT_EQ(si.acoustic_steps(), dimensionless.acoustic_steps());
+  const double time_difference = std::abs(si.time() / b.time_scale - dimensionless.time()) / dimensionless.time();
+  auto xa = dimensionless.fluid_body().positions().to_vector(), xb = si.fluid_body().positions().to_vector();
+  auto ia = dimensionless.fluid_body().particles().ids().to_vector(), ib = si.fluid_body().particles().ids().to_vector();
+  auto pa = dimensionless.fluid_body().particles().variable<double>("Pressure").to_vector();
+  auto pb = si.fluid_body().particles().variable<double>("Pressure").to_vector();
+  std::vector<std::size_t> index_b(xb.size());
+  for (std::size_t i = 0; i < xb.size(); ++i) index_b[ib[i]] = i;
+  double position = 0, pressure = 0, largest_pressure = 0;
+  for (std::size_t i = 0; i < xa.size(); ++i) {
+    const std::size_t j = index_b[ia[i]];
+    position = std::max(position, norm(xa[i] - xb[j] * (1 / b.length_scale)));
+    pressure = std::max(pressure, std::abs(pa[i] - pb[j] / b.pressure_scale));
+    largest_pressure = std::max(largest_pressure, std::abs(pa[i]));
+  }
+  position /= a.tank[0];
+  pressure /= largest_pressure;
+  std::printf("[ measured ] SI vs dimensionless after %llu acoustic steps (double, seq): time %.2e, positions %.2e, "
+              "pressures %.2e relative (bound 1e-6)\n",
+              (unsigned long long)si.acoustic_steps(), time_difference, position, pressure);
+  EXPECT_LE(time_difference, 1e-6);
+  EXPECT_LE(position, 1e-6);
+  EXPECT_LE(pressure, 1e-6);
+}
