@@ -67,14 +67,14 @@ Series read_csv(const std::string& name) {
 
 CaseDescription load(const std::string& name) { return read_case_file(std::string(UNISPH_CASES_DIR) + "/" + name); }
 
-struct Run {
+struct RunRecord {
   std::vector<ObserverSample> samples;
   std::uint64_t acoustic_steps = 0;
   Index fluid = 0;
 };
 
 template <class T, int D>
-Run run_case(const CaseDescription& c, double end, PolicyKind kind = PolicyKind::par,
+RunRecord run_case(const CaseDescription& c, double end, PolicyKind kind = PolicyKind::par,
              std::vector<Vec<T, D>>* initial = nullptr, std::vector<Vec<T, D>>* final_positions = nullptr) {
   WeaklyCompressibleSolver<T, D> solver(c, kind);
   auto by_id = [&] {
@@ -85,7 +85,7 @@ Run run_case(const CaseDescription& c, double end, PolicyKind kind = PolicyKind:
     return out;
   };
   if (initial) *initial = by_id();
-  Run run;
+  RunRecord run;
   run.fluid = solver.fluid_count();
   run.samples.push_back(solver.observe());
   while (solver.time() < end * (1 - 1e-12)) {
@@ -97,7 +97,7 @@ Run run_case(const CaseDescription& c, double end, PolicyKind kind = PolicyKind:
   return run;
 }
 
-Series front_series(const Run& run, const CaseDescription& c) {
+Series front_series(const RunRecord& run, const CaseDescription& c) {
   Series s;
   for (const auto& o : run.samples) {
     s.t.push_back(o.time / c.time_scale);
@@ -105,7 +105,7 @@ Series front_series(const Run& run, const CaseDescription& c) {
   }
   return s;
 }
-Series probe_series(const Run& run, const CaseDescription& c, std::size_t probe) {
+Series probe_series(const RunRecord& run, const CaseDescription& c, std::size_t probe) {
   Series s;
   for (const auto& o : run.samples) {
     s.t.push_back(o.time / c.time_scale);
@@ -120,8 +120,8 @@ TEST(HostValidation, ColumnCollapse) {
   const CaseDescription coarse = load("column_collapse_2d.toml");
   CaseDescription fine = coarse;
   fine.dx = coarse.dx / 2;
-  const Run run40 = run_case<double, 2>(coarse, coarse.end_time);
-  const Run run80 = run_case<double, 2>(fine, fine.end_time);
+  const RunRecord run40 = run_case<double, 2>(coarse, coarse.end_time);
+  const RunRecord run80 = run_case<double, 2>(fine, fine.end_time);
   const Series z40 = front_series(run40, coarse), z80 = front_series(run80, fine);
   const Series experiments[] = {read_csv("martin_moyce_1952_a1.125in.csv"), read_csv("martin_moyce_1952_a2.25in.csv"),
                                 read_csv("koshizuka_oka_1996_experiment.csv")};
@@ -161,7 +161,7 @@ TEST(HostValidation, ColumnCollapse) {
 
 TEST(HostValidation, DamBreakWallPressure) {
   const CaseDescription c = load("dambreak_2d.toml");
-  const Run run = run_case<double, 2>(c, c.end_time);
+  const RunRecord run = run_case<double, 2>(c, c.end_time);
   const Series p = probe_series(run, c, 0);
   double crossing = std::nan("");
   for (std::size_t k = 1; k < p.t.size(); ++k)
@@ -193,7 +193,7 @@ TEST(HostValidation, DamBreakWallPressure) {
 TEST(HostValidation, HydrostaticTank) {
   const CaseDescription c = load("hydrostatic_2d.toml");
   std::vector<Vec<double, 2>> x0, x1;
-  const Run run = run_case<double, 2>(c, c.end_time, PolicyKind::par, &x0, &x1);
+  const RunRecord run = run_case<double, 2>(c, c.end_time, PolicyKind::par, &x0, &x1);
   const double rho_g_h = c.density * c.gravity * c.column[1];
   const double depths[] = {0.25, 0.5, 0.75};
   for (std::size_t k = 0; k < 3; ++k) {

@@ -1,0 +1,117 @@
+#!/usr/bin/python3
+"""Draws the SPH validation comparisons as PNGs (Debian's matplotlib: run with /usr/bin/python3).
+
+    scripts/plot_sph_validation.py OUT_ROOT [IMAGES_DIR]
+
+OUT_ROOT holds the output folders of `unisph run` (observers.csv in each):
+    dambreak_2d/, column_collapse_2d/, column_collapse_2d_dx80/ (optional), hydrostatic_2d/
+Experimental data: tests/data/validation/.
+"""
+import csv
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+DATA = os.path.join(HERE, "..", "tests", "data", "validation")
+
+
+def read_experiment(name):
+    t, y = [], []
+    with open(os.path.join(DATA, name)) as f:
+        rows = [r for r in f if not r.startswith("#")]
+    for row in list(csv.reader(rows))[1:]:
+        t.append(float(row[0]))
+        y.append(float(row[1]))
+    return t, y
+
+
+def read_observers(folder):
+    path = os.path.join(folder, "observers.csv")
+    if not os.path.exists(path):
+        return None
+    with open(path) as f:
+        rows = [r for r in f if not r.startswith("#")]
+    reader = csv.DictReader(rows)
+    columns = {}
+    for row in reader:
+        for k, v in row.items():
+            columns.setdefault(k, []).append(float(v))
+    return columns
+
+
+def main():
+    root = sys.argv[1]
+    images = sys.argv[2] if len(sys.argv) > 2 else os.path.join(HERE, "..", "docs", "images")
+    os.makedirs(images, exist_ok=True)
+
+    dam = read_observers(os.path.join(root, "dambreak_2d"))
+    if dam:
+        fig, ax = plt.subplots(figsize=(8, 4))
+        ax.plot(dam["time_star"], dam["p_star_wall_0.2H"], lw=0.8, label="unisph, H/dx = 40")
+        t, p = read_experiment("buchner_2002_wall_pressure.csv")
+        ax.plot(t, p, "k.", ms=4, label="Buchner (2002), 0.2 H")
+        for name, label, style in [("lobovsky_2014_sensor1.csv", "Lobovsky et al. (2014), 3 mm", "c+")]:
+            t, p = read_experiment(name)
+            ax.plot(t, p, style, ms=4, label=label)
+        ax.axhline(0.2, color="grey", lw=0.5)
+        ax.axvspan(3.5, 5, color="grey", alpha=0.1)
+        ax.set_xlim(0, 8)
+        ax.set_xlabel("t sqrt(g/H)")
+        ax.set_ylabel("p / (rho g H)")
+        ax.set_title("2D dam break: pressure on the downstream wall at 0.2 H")
+        ax.legend()
+        fig.tight_layout()
+        fig.savefig(os.path.join(images, "sph_dambreak_pressure.png"), dpi=120)
+
+        fig, ax = plt.subplots(figsize=(6, 4))
+        e0 = dam["kinetic_energy"][0] + dam["potential_energy"][0]
+        ax.plot(dam["time_star"], [(k + p) / e0 for k, p in zip(dam["kinetic_energy"], dam["potential_energy"])],
+                label="(kinetic + potential) / initial")
+        ax.plot(dam["time_star"], [k / e0 for k in dam["kinetic_energy"]], label="kinetic / initial")
+        ax.set_xlabel("t sqrt(g/H)")
+        ax.set_title("2D dam break: mechanical energy")
+        ax.legend()
+        fig.tight_layout()
+        fig.savefig(os.path.join(images, "sph_dambreak_energy.png"), dpi=120)
+
+    col = read_observers(os.path.join(root, "column_collapse_2d"))
+    if col:
+        fig, ax = plt.subplots(figsize=(6, 4))
+        ax.plot(col["time_star"], col["front_star"], label="unisph, L/dx = 40")
+        fine = read_observers(os.path.join(root, "column_collapse_2d_dx80"))
+        if fine:
+            ax.plot(fine["time_star"], fine["front_star"], "--", label="unisph, L/dx = 80")
+        for name, label, style in [("martin_moyce_1952_a1.125in.csv", "Martin & Moyce, a = 1.125 in", "ko"),
+                                   ("martin_moyce_1952_a2.25in.csv", "Martin & Moyce, a = 2.25 in", "ks"),
+                                   ("koshizuka_oka_1996_experiment.csv", "Koshizuka & Oka", "r^")]:
+            t, z = read_experiment(name)
+            ax.plot(t, z, style, ms=4, mfc="none", label=label)
+        ax.set_xlabel("T = t sqrt(2g/L)")
+        ax.set_ylabel("z / L")
+        ax.set_xlim(0, 3)
+        ax.set_title("Collapsing column: surge front")
+        ax.legend()
+        fig.tight_layout()
+        fig.savefig(os.path.join(images, "sph_column_collapse_front.png"), dpi=120)
+
+    hyd = read_observers(os.path.join(root, "hydrostatic_2d"))
+    if hyd:
+        fig, ax = plt.subplots(figsize=(6, 4))
+        for depth in ["0.25H", "0.5H", "0.75H"]:
+            ax.plot(hyd["time_star"], hyd["p_star_depth_" + depth], lw=0.8, label="probe at depth " + depth)
+            ax.axhline(float(depth[:-1]), color="grey", lw=0.5)
+        ax.set_xlabel("t sqrt(g/H)")
+        ax.set_ylabel("p / (rho g H)")
+        ax.set_title("Hydrostatic tank: kernel-averaged probes")
+        ax.legend()
+        fig.tight_layout()
+        fig.savefig(os.path.join(images, "sph_hydrostatic_probes.png"), dpi=120)
+
+
+if __name__ == "__main__":
+    main()
