@@ -389,6 +389,7 @@ TEST(HostSupercellContainer, ChainsFramesBothWaysAndKnowsTheLastFill) {
   }
   EXPECT_EQ(container.frame_count(), 6u);
   EXPECT_THROW(container.push_back(2, Tagged{}), Error);
+  EXPECT_THROW(container.append_empty_frame(2), Error);
 }
 
 struct ThrowOnRankTwo {

@@ -83,9 +83,7 @@ class SupercellContainer {
 
   // Appends particles to a supercell, filling its last frame and chaining new frames to it.
   void append(Index supercell, std::span<const Particle> particles) {
-    if (supercell >= headers_.size())
-      throw Error("SupercellContainer '" + headers_.name() + "': supercell " + std::to_string(supercell) +
-                  " does not exist (there are " + std::to_string(headers_.size()) + ")");
+    check_supercell(supercell);
     Index new_frames = 0;
     {
       const SupercellHeader h = headers_.read(MemorySpace::host)[supercell];
@@ -105,6 +103,7 @@ class SupercellContainer {
   // Chains one frame with no particles to a supercell (a supercell may end in an empty frame,
   // for instance after particles left it).
   void append_empty_frame(Index supercell) {
+    check_supercell(supercell);
     reserve_frames(frames_used_ + 1);
     View<frame_type> frames = frames_.read_write(MemorySpace::host);
     chain_new_frame(frames, headers_.read_write(MemorySpace::host)[supercell]);
@@ -130,6 +129,11 @@ class SupercellContainer {
   DiscreteVariable<SupercellHeader>& headers() { return headers_; }
 
  private:
+  void check_supercell(Index supercell) const {
+    if (supercell >= headers_.size())
+      throw Error("SupercellContainer '" + headers_.name() + "': supercell " + std::to_string(supercell) +
+                  " does not exist (there are " + std::to_string(headers_.size()) + ")");
+  }
   void reserve_frames(Index needed) {
     if (needed <= frames_.size()) return;
     Index capacity = frames_.size() < 4 ? 4 : frames_.size();
