@@ -1,0 +1,93 @@
+// Builds the multi-resolution level set of teapot.stl (9438 triangles) with N data points along
+// its longest side (data spacing = longest side / N), on every policy this build has, and prints
+// per stage the wall time (each stage ends with a fence), the packages and data points of the
+// finest layer and its memory per data point (phi, cell -> package index, package metadata).
+//
+//   bench_level_set [N ...] [--policy seq|par|device ...] [--repeat R]    default N: 256 512
+//
+// The mesh is read and its BVH built once, outside the timings; the GPU is warmed up by one
+// small build first. The data folder is the source tree's tests/data, or $UNISPH_TEST_DATA_DIR.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "unisph/exec/algorithms.hpp"
+#include "unisph/geometry/mesh_repair.hpp"
+#include "unisph/levelset/multi_resolution_level_set.hpp"
+
+namespace {
+using namespace unisph;
+using Vec3 = Vec<Real, 3>;
+
+std::string data_file(const std::string& relative) {
+  const char* dir = std::getenv("UNISPH_TEST_DATA_DIR");
+  return std::string(dir ? dir : UNISPH_BENCH_DATA_DIR) + "/" + relative;
+}
+
+template <class P>
+void run(P policy, TriangleMeshSearch& search, const Vec3& lo, const Vec3& hi, int n, int repeat) {
+  Real longest = 0;
+  for (int k = 0; k < 3; ++k) longest = std::max(longest, hi[k] - lo[k]);
+  const Real dx = longest / Real(n);
+  for (int r = 0; r < repeat; ++r) {
+    const auto start = std::chrono::steady_clock::now();
+    MultiResolutionLevelSet<3> level_set(policy, search.view(policy), lo, hi, dx);
+    fence(policy);
+    const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const LevelSetStageTimes& t = level_set.stage_seconds();
+    LevelSetLayer<3>& finest = level_set.finest();
+    std::printf(
+        "%-6s N=%-5d levels=%d finest: packages=%zu data_points=%zu bytes/point=%.2f | tagging %.3f s, packages %.3f "
+        "s, distance %.3f s, normals %.3f s, total %.3f s (%s)\n",
+        std::string(P::name).c_str(), n, level_set.levels(), finest.data_packages(),
+        finest.data_packages() * package_points<3>, finest.bytes_per_data_point(), t.tagging, t.packages, t.distance,
+        t.normals, total, sizeof(Real) == 4 ? "float" : "double");
+    std::fflush(stdout);
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<int> sizes;
+  std::vector<PolicyKind> policies;
+  int repeat = 1;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--policy" && i + 1 < argc)
+      policies.push_back(parse_policy(argv[++i]));
+    else if (a == "--repeat" && i + 1 < argc)
+      repeat = std::atoi(argv[++i]);
+    else
+      sizes.push_back(std::atoi(a.c_str()));
+  }
+  if (sizes.empty()) sizes = {256, 512};
+  if (policies.empty()) policies = execution_info().available;
+  const LoadedMesh loaded = load_triangle_mesh(data_file("geometry/teapot.stl"));
+  TriangleMeshSearch search(loaded.mesh);
+  Vec3 lo, hi;
+  for (int k = 0; k < 3; ++k) lo[k] = Real(loaded.report.box_min[k]), hi[k] = Real(loaded.report.box_max[k]);
+  std::printf("teapot.stl: %zu triangles; host threads %d%s%s\n", loaded.mesh.triangles.size(), host_threads(),
+              execution_info().device_present ? "; GPU " : "", execution_info().device_name.c_str());
+  for (PolicyKind kind : policies) {
+    require_policy(kind);
+    for (int n : sizes) {
+      if (kind == PolicyKind::seq) run(seq, search, lo, hi, n, repeat);
+      if (kind == PolicyKind::par) run(par, search, lo, hi, n, repeat);
+#if UNISPH_HAS_CUDA
+      if (kind == PolicyKind::device) {
+        static bool warm = false;
+        if (!warm) {
+          MultiResolutionLevelSet<3> warm_up(par_device, search.view(par_device), lo, hi, (hi[0] - lo[0]) / 32);
+          warm = true;
+        }
+        run(par_device, search, lo, hi, n, repeat);
+      }
+#endif
+    }
+  }
+  return 0;
+}

@@ -1,0 +1,116 @@
+#pragma once
+// One resolution of a multi-resolution level set: a package mesh over the cells whose tags
+// say core or inner, the signed distance phi at every data point of its packages and the unit
+// normal from phi. The far-field packages hold +far_field_distance (outside) and
+// -far_field_distance (inside), two cell sizes, and a zero normal.
+//
+// Built by MultiResolutionLevelSet, stage by stage, each stage a kernel on the chosen policy.
+
+#include <cstdint>
+
+#include "unisph/exec/algorithms.hpp"
+#include "unisph/grid/package_for.hpp"
+#include "unisph/grid/package_mesh.hpp"
+#include "unisph/levelset/level_set_layer_view.hpp"
+#include "unisph/levelset/regularized_gradient.hpp"
+#include "unisph/memory/discrete_variable.hpp"
+
+namespace unisph {
+
+namespace level_set_kernels {
+template <int D>
+struct FarFieldValues {
+  View<Real> phi;
+  View<Vec<Real, D>> normal;
+  Real distance;
+  UNISPH_HOST_DEVICE void operator()(Index i) const {
+    phi[i] = i < Index(package_points<D>) ? distance : -distance;
+    normal[i] = Vec<Real, D>{};
+  }
+};
+template <int D, class Shape>
+struct SignedDistanceAtDataPoints {
+  Shape shape;
+  PackageGrid<D> grid;
+  View<const std::uint64_t> package_cell;
+  View<Real> phi;
+  UNISPH_HOST_DEVICE void operator()(std::uint32_t package, int local_point) const {
+    const Vec<Real, D> x = grid.data_position(grid.coordinates(package_cell[package]), local_point);
+    const auto nearest = shape.nearest(x);
+    const Real distance = std::sqrt(nearest.squared_distance);
+    phi[Index(package) * package_points<D> + local_point] = shape.sign(x, nearest) > 0 ? distance : -distance;
+  }
+};
+template <int D>
+struct NormalFromPhi {
+  View<const Real> phi;
+  View<const PackageNeighbourhood<D>> neighbourhood;
+  View<Vec<Real, D>> normal;
+  Real spacing;
+  UNISPH_HOST_DEVICE void operator()(std::uint32_t package, int local_point) const {
+    const Vec<Real, D> g = regularized_gradient<D>(phi, neighbourhood[package], package, local_point, spacing);
+    const Real length = norm(g);
+    normal[Index(package) * package_points<D> + local_point] = length > Real(0) ? g / length : g;
+  }
+};
+}  // namespace level_set_kernels
+
+template <int D>
+class LevelSetLayer {
+ public:
+  static constexpr int dimension = D;
+
+  explicit LevelSetLayer(const PackageGrid<D>& grid)
+      : mesh(grid), tags("CellTag", grid.cell_count()), far_field_distance(Real(2) * grid.cell_size()) {}
+
+  const PackageGrid<D>& grid() const { return mesh.grid(); }
+  Index packages() const { return mesh.packages(); }
+  Index data_packages() const { return mesh.data_packages(); }
+
+  // Packages from the tags, then phi at every data point (the sign from the surface).
+  template <ExecutionPolicy P>
+  void allocate_packages(P policy) {
+    mesh.allocate(policy, tags);
+  }
+  template <ExecutionPolicy P, class Shape>
+  void compute_signed_distance(P policy, const Shape& shape) {
+    namespace k = level_set_kernels;
+    phi.resize(packages() * package_points<D>);
+    normal.resize(packages() * package_points<D>);
+    View<Real> values = phi.write(policy);
+    particle_for(policy, Index(far_field_packages) * package_points<D>,
+                 k::FarFieldValues<D>{values, normal.write(policy), far_field_distance});
+    data_point_for(policy, mesh,
+                   k::SignedDistanceAtDataPoints<D, Shape>{shape, grid(), mesh.package_cell.read(policy), values});
+    fence(policy);
+  }
+  template <ExecutionPolicy P>
+  void compute_normals(P policy) {
+    data_point_for(policy, mesh,
+                   level_set_kernels::NormalFromPhi<D>{phi.read(policy), mesh.neighbourhood.read(policy),
+                                                       normal.read_write(policy), grid().data_spacing});
+    fence(policy);
+  }
+
+  template <ExecutionPolicy P>
+  LevelSetLayerView<D> view(P policy) {
+    return {grid(), mesh.cell_package.read(policy), phi.read(policy), normal.read(policy), far_field_distance};
+  }
+
+  // Bytes per data point of what a probe and the stencils need: phi, the cell -> package
+  // index, the package metadata (cell, type, neighbourhood); the normal and the tags apart.
+  double bytes_per_data_point() const {
+    const double per_package = double(package_points<D>) * sizeof(Real) + sizeof(std::uint64_t) +
+                               sizeof(PackageType) + sizeof(PackageNeighbourhood<D>);
+    const double total = per_package * double(packages()) + double(grid().cell_count()) * sizeof(std::uint32_t);
+    return total / (double(data_packages()) * package_points<D>);
+  }
+
+  PackageMesh<D> mesh;
+  DiscreteVariable<CellTag> tags;
+  DiscreteVariable<Real> phi{"LevelSetPhi"};
+  DiscreteVariable<Vec<Real, D>> normal{"LevelSetNormal"};
+  Real far_field_distance;
+};
+
+}  // namespace unisph

@@ -1,0 +1,136 @@
+#pragma once
+// A level set of a closed shape (triangle mesh in 3D, polygons in 2D) on layers of doubling
+// resolution down to the requested data spacing, built on any policy:
+//
+//   TriangleMeshSearch search(load_triangle_mesh("part.stl").mesh);
+//   MultiResolutionLevelSet<3> level_set(par_device, search.view(par_device), lo, hi, dx);
+//   particle_for(par_device, n, MyKernel{level_set.view(par_device), ...});   // probes in kernels
+//
+// Stages, each timed (stage_seconds):
+//   tagging    coarsest layer: every cell core (surface within one cell size of the centre) or
+//              not; the outside flooded in from the grid border through non-core cells, so the
+//              inside is closed even where the surface leaks; finer layers: only the children of
+//              coarse cells with packages are evaluated, the others inherit their parent's side;
+//              then inner cells around the core
+//   packages   allocation sorted by Morton key (same layout on every policy and run), the
+//              neighbourhood tables
+//   distance   phi at every data point: exact distance to the surface (BVH closest point), the
+//              sign from the pseudonormal
+//   normals    regularised central difference of phi
+//
+// The grid: cells of the coarsest layer are 4 * dx * 2^(levels - 1) wide; the box [lo, hi] is
+// padded by two coarse cells on every side, so the border of the grid is far field.
+
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "unisph/core/error.hpp"
+#include "unisph/exec/algorithms.hpp"
+#include "unisph/levelset/band_tagging.hpp"
+#include "unisph/levelset/level_set_layer.hpp"
+#include "unisph/levelset/multi_resolution_level_set_view.hpp"
+#include "unisph/levelset/outside_flood_fill.hpp"
+#include "unisph/levelset/shape_search.hpp"
+
+namespace unisph {
+
+struct LevelSetStageTimes {
+  double tagging = 0, packages = 0, distance = 0, normals = 0;
+};
+
+template <int D>
+class MultiResolutionLevelSet {
+ public:
+  static constexpr int dimension = D;
+
+  // levels = 0 picks as many as keep the coarsest layer at 8 or more cells along the box's
+  // longest side.
+  // shape: ShapeSearchView<D> in the policy's memory space, or any trivially copyable object
+  // with the same nearest(p).squared_distance and sign(p, nearest) (analytic shapes in tests).
+  template <ExecutionPolicy P, class Shape>
+  MultiResolutionLevelSet(P policy, const Shape& shape, const Vec<Real, D>& lo, const Vec<Real, D>& hi,
+                          Real data_spacing, int levels = 0) {
+    if (!(data_spacing > Real(0))) throw Error("level set: the data spacing must be positive");
+    Real longest = Real(0);
+    for (int k = 0; k < D; ++k) longest = hi[k] - lo[k] > longest ? hi[k] - lo[k] : longest;
+    if (levels <= 0) {
+      levels = 1;
+      while (levels < max_level_set_layers && longest / (Real(package_size) * data_spacing * Real(1 << levels)) >= Real(8))
+        ++levels;
+    }
+    if (levels > max_level_set_layers)
+      throw Error("level set: at most " + std::to_string(max_level_set_layers) + " levels");
+    const Real coarse_cell = Real(package_size) * data_spacing * Real(1 << (levels - 1));
+    PackageGrid<D> grid;
+    for (int k = 0; k < D; ++k) {
+      grid.origin[k] = lo[k] - Real(2) * coarse_cell;
+      grid.cells[k] = int(std::ceil((hi[k] - lo[k]) / coarse_cell)) + 4;
+    }
+    grid.data_spacing = data_spacing * Real(1 << (levels - 1));
+    for (int level = 0; level < levels; ++level) {
+      layers_.push_back(std::make_unique<LevelSetLayer<D>>(grid));
+      grid.data_spacing = grid.data_spacing / Real(2);
+      for (int k = 0; k < D; ++k) grid.cells[k] *= 2;
+    }
+    for (int level = 0; level < levels; ++level) build_layer(policy, shape, level);
+  }
+
+  int levels() const { return int(layers_.size()); }
+  LevelSetLayer<D>& layer(int level) { return *layers_[level]; }
+  LevelSetLayer<D>& finest() { return *layers_.back(); }
+  const LevelSetStageTimes& stage_seconds() const { return times_; }
+
+  template <ExecutionPolicy P>
+  MultiResolutionLevelSetView<D> view(P policy) {
+    MultiResolutionLevelSetView<D> v{};
+    v.levels = levels();
+    for (int level = 0; level < levels(); ++level) v.layer[level] = layers_[level]->view(policy);
+    return v;
+  }
+
+ private:
+  template <ExecutionPolicy P, class Shape>
+  void build_layer(P policy, const Shape& shape, int level) {
+    LevelSetLayer<D>& layer = *layers_[level];
+    const PackageGrid<D> grid = layer.grid();
+    const Index cells = grid.cell_count();
+    using Clock = std::chrono::steady_clock;
+    auto t0 = Clock::now();
+    DiscreteVariable<CellTag> decided("CellTagDecided", cells);
+    if (level == 0) {
+      View<CellTag> tags = decided.write(policy);
+      particle_for(policy, cells, TagEveryCell<D, Shape>{shape, grid, tags});
+      particle_for(policy, cells, SeedOutsideFromBorder<D>{grid, tags});
+      while (particle_reduce(policy, cells, Sum<Index>{}, SpreadOutside<D>{grid, tags}) > 0) {
+      }
+    } else {
+      LevelSetLayer<D>& coarse = *layers_[level - 1];
+      particle_for(policy, cells,
+                   TagUnderCoarseBand<D, Shape>{shape, grid, coarse.grid(), coarse.tags.read(policy),
+                                                decided.write(policy)});
+    }
+    particle_for(policy, cells, TagInner<D>{grid, decided.read(policy), layer.tags.write(policy)});
+    fence(policy);
+    auto t1 = Clock::now();
+    layer.allocate_packages(policy);
+    auto t2 = Clock::now();
+    layer.compute_signed_distance(policy, shape);
+    auto t3 = Clock::now();
+    layer.compute_normals(policy);
+    auto t4 = Clock::now();
+    times_.tagging += std::chrono::duration<double>(t1 - t0).count();
+    times_.packages += std::chrono::duration<double>(t2 - t1).count();
+    times_.distance += std::chrono::duration<double>(t3 - t2).count();
+    times_.normals += std::chrono::duration<double>(t4 - t3).count();
+  }
+
+  std::vector<std::unique_ptr<LevelSetLayer<D>>> layers_;
+  LevelSetStageTimes times_;
+};
+
+}  // namespace unisph

@@ -1,0 +1,423 @@
+// Multi-resolution level set on every policy: exact signed distance at the data points
+// (analytic shapes and brute force over STL triangles), the same layout and values as seq,
+// second-order probes inside kernels, normals, probes across layers, a closed inside from a
+// leaking mesh, and 2D.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "support/policy_test.hpp"
+#include "test_data.hpp"
+#include "unisph/exec/algorithms.hpp"
+#include "unisph/geometry/closest_point.hpp"
+#include "unisph/geometry/mesh_repair.hpp"
+#include "unisph/geometry/polygon_reader.hpp"
+#include "unisph/geometry/winding_number.hpp"
+#include "unisph/levelset/multi_resolution_level_set.hpp"
+
+namespace {
+using namespace unisph;
+using unisph::testing::test_data;
+using Vec3 = Vec<Real, 3>;
+constexpr bool single = sizeof(Real) == 4;
+// Round-off allowance for values of order one.
+constexpr Real roundoff = single ? Real(2e-5) : Real(1e-12);
+
+struct AnalyticNearest {
+  Real squared_distance;
+  Real distance;  // signed
+};
+
+template <int D>
+struct SphereShape {
+  Vec<Real, D> centre;
+  Real radius;
+  UNISPH_HOST_DEVICE AnalyticNearest nearest(const Vec<Real, D>& p) const {
+    Real r2 = 0;
+    for (int k = 0; k < D; ++k) {
+      const Real d = p[k] - centre[k];
+      r2 = uncontracted::add(r2, uncontracted::mul(d, d));
+    }
+    const Real s = std::sqrt(r2) - radius;
+    return {uncontracted::mul(s, s), s};
+  }
+  UNISPH_HOST_DEVICE int sign(const Vec<Real, D>&, const AnalyticNearest& n) const { return n.distance >= 0 ? 1 : -1; }
+  Real exact(const Vec<Real, D>& p) const { return norm(p - centre) - radius; }
+};
+
+struct BoxShape {
+  Vec3 centre, half;
+  UNISPH_HOST_DEVICE AnalyticNearest nearest(const Vec3& p) const {
+    Real outside2 = 0, inside = -std::numeric_limits<Real>::max();
+    for (int k = 0; k < 3; ++k) {
+      const Real q = std::fabs(p[k] - centre[k]) - half[k];
+      if (q > 0) outside2 = uncontracted::add(outside2, uncontracted::mul(q, q));
+      inside = q > inside ? q : inside;
+    }
+    if (inside > 0) return {outside2, std::sqrt(outside2)};
+    return {uncontracted::mul(inside, inside), inside};
+  }
+  UNISPH_HOST_DEVICE int sign(const Vec3&, const AnalyticNearest& n) const { return n.distance >= 0 ? 1 : -1; }
+  Real exact(const Vec3& p) const { return nearest(p).distance; }
+};
+
+// Every data point of every layer with its position and phi, read on the host.
+template <int D, class F>
+void for_each_data_point(MultiResolutionLevelSet<D>& level_set, F&& f) {
+  for (int level = 0; level < level_set.levels(); ++level) {
+    LevelSetLayer<D>& layer = level_set.layer(level);
+    const std::vector<std::uint64_t> cells = layer.mesh.package_cell.to_vector();
+    const std::vector<Real> phi = layer.phi.to_vector();
+    const std::vector<PackageType> type = layer.mesh.package_type.to_vector();
+    for (Index p = far_field_packages; p < layer.packages(); ++p)
+      for (int l = 0; l < package_points<D>; ++l)
+        f(level, type[p], layer.grid().data_position(layer.grid().coordinates(cells[p]), l),
+          phi[p * package_points<D> + l]);
+  }
+}
+
+template <int D>
+struct ProbeKernel {
+  MultiResolutionLevelSetView<D> level_set;
+  View<const Vec<Real, D>> points;
+  View<Real> phi;
+  View<Vec<Real, D>> normal;
+  UNISPH_HOST_DEVICE void operator()(Index i) const {
+    phi[i] = level_set.probe_phi(points[i]);
+    normal[i] = level_set.probe_normal(points[i]);
+  }
+};
+
+template <int D, class P>
+void probe(P policy, MultiResolutionLevelSet<D>& level_set, const std::vector<Vec<Real, D>>& points,
+           std::vector<Real>& phi, std::vector<Vec<Real, D>>& normal) {
+  DiscreteVariable<Vec<Real, D>> x("ProbePoints");
+  x.assign(points);
+  DiscreteVariable<Real> p("ProbePhi", points.size());
+  DiscreteVariable<Vec<Real, D>> n("ProbeNormal", points.size());
+  particle_for(policy, points.size(), ProbeKernel<D>{level_set.view(policy), x.read(policy), p.write(policy), n.write(policy)});
+  phi = p.to_vector();
+  normal = n.to_vector();
+}
+
+template <int D>
+std::vector<Vec<Real, D>> random_points(const Vec<Real, D>& lo, const Vec<Real, D>& hi, std::size_t count,
+                                        std::uint64_t seed) {
+  std::mt19937_64 random(seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<Vec<Real, D>> points(count);
+  for (auto& x : points)
+    for (int k = 0; k < D; ++k) x[k] = Real(lo[k] + (hi[k] - lo[k]) * unit(random));
+  return points;
+}
+
+UNISPH_POLICY_TEST_SUITE(LevelSetTest);
+
+TYPED_TEST(LevelSetTest, AnalyticSphereAndBoxExactAtEveryDataPoint) {
+  const SphereShape<3> sphere{Vec3{{0.1, -0.2, 0.3}}, Real(1)};
+  MultiResolutionLevelSet<3> a(this->policy, sphere, Vec3{{-0.9, -1.2, -0.7}}, Vec3{{1.1, 0.8, 1.3}}, Real(1) / 16, 3);
+  Real worst = 0;
+  Index points = 0;
+  for_each_data_point(a, [&](int, PackageType, const Vec3& x, Real phi) {
+    worst = std::max(worst, std::fabs(phi - sphere.exact(x)));
+    ++points;
+  });
+  EXPECT_GT(points, 10000u);
+  EXPECT_LT(worst, roundoff);
+
+  const BoxShape box{Vec3{{0.0, 0.0, 0.0}}, Vec3{{0.7, 0.4, 0.55}}};
+  MultiResolutionLevelSet<3> b(this->policy, box, Vec3{{-0.7, -0.4, -0.55}}, Vec3{{0.7, 0.4, 0.55}}, Real(1) / 32, 2);
+  worst = 0;
+  for_each_data_point(b, [&](int, PackageType, const Vec3& x, Real phi) { worst = std::max(worst, std::fabs(phi - box.exact(x))); });
+  EXPECT_LT(worst, roundoff);
+  EXPECT_EQ(b.levels(), 2);
+}
+
+// Brute force: distance over every triangle, inside by the exact winding number.
+Real brute_force_signed_distance(const TriangleMesh& mesh, const Vec<double, 3>& p) {
+  double best = std::numeric_limits<double>::max(), angle = 0;
+  for (const auto& t : mesh.triangles) {
+    const auto& a = mesh.vertices[t[0]];
+    const auto& b = mesh.vertices[t[1]];
+    const auto& c = mesh.vertices[t[2]];
+    best = std::min(best, squared_distance(p, closest_point_on_triangle(p, a, b, c).point));
+    angle += solid_angle(p, a, b, c);
+  }
+  const bool inside = angle / (4 * pi<double>()) > 0.5;
+  return Real(inside ? -std::sqrt(best) : std::sqrt(best));
+}
+
+void bounding_box(const TriangleMesh& mesh, Vec3& lo, Vec3& hi) {
+  lo = Vec3::constant(std::numeric_limits<Real>::max());
+  hi = -lo;
+  for (const auto& v : mesh.vertices)
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = std::min(lo[k], Real(v[k]));
+      hi[k] = std::max(hi[k], Real(v[k]));
+    }
+}
+
+Real longest_side(const Vec3& lo, const Vec3& hi) { return std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]}); }
+
+TYPED_TEST(LevelSetTest, MeshesMatchBruteForceInTheBand) {
+  for (const char* name : {"trimesh_unit_sphere.stl", "teapot.stl", "triangle_prism.stl", "barrel.stl",
+                           "trimesh_plate_holes.stl"}) {
+    SCOPED_TRACE(name);
+    const TriangleMesh mesh = load_triangle_mesh(test_data(std::string("geometry/") + name)).mesh;
+    TriangleMeshSearch search(mesh);
+    Vec3 lo, hi;
+    bounding_box(mesh, lo, hi);
+    const Real size = longest_side(lo, hi);
+    // Signed by the winding number: teapot.stl has walls inside its volume (the pseudonormal
+    // sign says "outside" next to them).
+    MultiResolutionLevelSet<3> level_set(this->policy, WindingNumberSign<TriangleMeshSearchView>{search.view(this->policy)},
+                                         lo, hi, size / 48);
+    // 1500 data points of the finest layer's core packages, chosen at random.
+    std::vector<std::pair<Vec3, Real>> band;
+    for_each_data_point(level_set, [&](int level, PackageType type, const Vec3& x, Real phi) {
+      if (level == level_set.levels() - 1 && type == PackageType::core) band.push_back({x, phi});
+    });
+    ASSERT_GT(band.size(), 1500u);
+    std::mt19937_64 random(7);
+    std::shuffle(band.begin(), band.end(), random);
+    band.resize(1500);
+    Real worst = 0;
+    int wrong_sign = 0;
+    for (const auto& [x, phi] : band) {
+      const Real exact = brute_force_signed_distance(mesh, Vec<double, 3>{{x[0], x[1], x[2]}});
+      if (std::fabs(exact) > roundoff * size && (exact < 0) != (phi < 0)) {
+        ++wrong_sign;
+        std::printf("sign differs at (%.9g, %.9g, %.9g): phi %.9g, brute force %.9g, winding %.6f\n", double(x[0]),
+                    double(x[1]), double(x[2]), double(phi), double(exact),
+                    double(search.view(seq).exact_winding_number(x)));
+      }
+      worst = std::max(worst, std::fabs(std::fabs(phi) - std::fabs(exact)));
+    }
+    EXPECT_LT(worst, roundoff * size);
+    EXPECT_EQ(wrong_sign, 0);
+  }
+}
+
+TYPED_TEST(LevelSetTest, SameLayoutAndValuesAsSeq) {
+  const TriangleMesh mesh = load_triangle_mesh(test_data("geometry/teapot.stl")).mesh;
+  TriangleMeshSearch search(mesh);
+  Vec3 lo, hi;
+  bounding_box(mesh, lo, hi);
+  const Real dx = longest_side(lo, hi) / 64;
+  MultiResolutionLevelSet<3> reference(seq, search.view(seq), lo, hi, dx, 3);
+  MultiResolutionLevelSet<3> level_set(this->policy, search.view(this->policy), lo, hi, dx, 3);
+  for (int level = 0; level < 3; ++level) {
+    LevelSetLayer<3>& r = reference.layer(level);
+    LevelSetLayer<3>& l = level_set.layer(level);
+    ASSERT_EQ(l.mesh.cell_package.to_vector(), r.mesh.cell_package.to_vector());
+    ASSERT_EQ(l.mesh.package_cell.to_vector(), r.mesh.package_cell.to_vector());
+    const std::vector<Real> phi = l.phi.to_vector(), phi_reference = r.phi.to_vector();
+    const std::vector<Vec3> normal = l.normal.to_vector(), normal_reference = r.normal.to_vector();
+    Real worst_phi = 0, worst_normal = 0;
+    for (Index i = 0; i < phi.size(); ++i) {
+      worst_phi = std::max(worst_phi, std::fabs(phi[i] - phi_reference[i]));
+      worst_normal = std::max(worst_normal, norm(normal[i] - normal_reference[i]));
+    }
+    EXPECT_LT(worst_phi, roundoff * dx);
+    EXPECT_LT(worst_normal, single ? Real(1e-3) : Real(1e-9));
+  }
+}
+
+TYPED_TEST(LevelSetTest, ProbesConvergeAtSecondOrder) {
+  const SphereShape<3> sphere{Vec3{{0.05, 0.02, -0.03}}, Real(1)};
+  const Vec3 lo = Vec3::constant(-1), hi = Vec3::constant(1);
+  // Points within 0.2 of the sphere: inside the finest band at every spacing below.
+  std::vector<Vec3> points;
+  for (const Vec3& x : random_points<3>(Vec3::constant(-1.3), Vec3::constant(1.3), 20000, 11))
+    if (std::fabs(sphere.exact(x)) < 0.2 && points.size() < 2000) points.push_back(x);
+  std::vector<Real> error;
+  for (Real dx : {Real(1) / 8, Real(1) / 16, Real(1) / 32}) {
+    MultiResolutionLevelSet<3> level_set(this->policy, sphere, lo, hi, dx, 2);
+    std::vector<Real> phi;
+    std::vector<Vec3> normal;
+    probe(this->policy, level_set, points, phi, normal);
+    Real worst = 0;
+    for (Index i = 0; i < points.size(); ++i) worst = std::max(worst, std::fabs(phi[i] - sphere.exact(points[i])));
+    error.push_back(worst);
+  }
+  const double order_1 = std::log2(error[0] / error[1]), order_2 = std::log2(error[1] / error[2]);
+  std::printf("probe max error at dx = 1/8, 1/16, 1/32: %.3e %.3e %.3e, orders %.2f %.2f\n", double(error[0]),
+              double(error[1]), double(error[2]), order_1, order_2);
+  EXPECT_GT(order_1, 1.8);
+  if (!single) {
+    EXPECT_GT(order_2, 1.8);
+  }
+}
+
+TYPED_TEST(LevelSetTest, NormalsWithinOneDegreeOnSphere) {
+  const SphereShape<3> sphere{Vec3{{0.0, 0.0, 0.0}}, Real(1)};
+  MultiResolutionLevelSet<3> level_set(this->policy, sphere, Vec3::constant(-1), Vec3::constant(1), Real(1) / 32);
+  LevelSetLayer<3>& finest = level_set.finest();
+  const std::vector<std::uint64_t> cells = finest.mesh.package_cell.to_vector();
+  const std::vector<PackageType> type = finest.mesh.package_type.to_vector();
+  const std::vector<Vec3> normal = finest.normal.to_vector();
+  double worst_degrees = 0;
+  for (Index p = far_field_packages; p < finest.packages(); ++p) {
+    if (type[p] != PackageType::core) continue;
+    for (int l = 0; l < package_points<3>; ++l) {
+      const Vec3 x = finest.grid().data_position(finest.grid().coordinates(cells[p]), l);
+      const Vec3 exact = x / norm(x);
+      const double c = std::clamp(double(dot(normal[p * package_points<3> + l], exact)), -1.0, 1.0);
+      worst_degrees = std::max(worst_degrees, std::acos(c) * 180 / pi<double>());
+    }
+  }
+  // And probed between data points, inside a kernel.
+  std::vector<Vec3> points;
+  for (const Vec3& x : random_points<3>(Vec3::constant(-1.2), Vec3::constant(1.2), 20000, 5))
+    if (std::fabs(sphere.exact(x)) < 0.1) points.push_back(x);
+  std::vector<Real> phi;
+  std::vector<Vec3> probed;
+  probe(this->policy, level_set, points, phi, probed);
+  double worst_probe = 0;
+  for (Index i = 0; i < points.size(); ++i) {
+    const double c = std::clamp(double(dot(probed[i], points[i] / norm(points[i]))), -1.0, 1.0);
+    worst_probe = std::max(worst_probe, std::acos(c) * 180 / pi<double>());
+  }
+  std::printf("normals at R/dx = 32: worst %.4f degrees at data points, %.4f degrees probed\n", worst_degrees, worst_probe);
+  EXPECT_LT(worst_degrees, 1.0);
+  EXPECT_LT(worst_probe, 1.0);
+}
+
+TYPED_TEST(LevelSetTest, ProbesAcrossLayersKeepTheSign) {
+  const SphereShape<3> sphere{Vec3{{0.0, 0.1, 0.0}}, Real(0.8)};
+  const Vec3 lo = Vec3::constant(-1), hi = Vec3::constant(1);
+  MultiResolutionLevelSet<3> level_set(this->policy, sphere, lo, hi, Real(1) / 32, 3);
+  const std::vector<Vec3> points = random_points<3>(Vec3::constant(-1.6), Vec3::constant(1.6), 20000, 3);
+  std::vector<Real> phi;
+  std::vector<Vec3> normal;
+  probe(this->policy, level_set, points, phi, normal);
+  const MultiResolutionLevelSetView<3> host = level_set.view(seq);
+  int used[max_level_set_layers + 1] = {};
+  for (Index i = 0; i < points.size(); ++i) {
+    const Real exact = sphere.exact(points[i]);
+    const int level = host.resolving_layer(points[i]);
+    ++used[level + 1];
+    // Trilinear interpolation of r - R errs by at most dx^2 (d - 1) / (8 r): within dx^2 for r > 0.3.
+    const Real r = norm(points[i] - sphere.centre);
+    if (level >= 0 && r > Real(0.3)) {
+      const Real dx = level_set.layer(level).grid().data_spacing;
+      ASSERT_LT(std::fabs(phi[i] - exact), dx * dx) << "level " << level;
+    } else if (level < 0) {
+      ASSERT_LE(std::fabs(phi[i]), 2 * level_set.layer(0).far_field_distance);
+    }
+    if (std::fabs(exact) > Real(1e-3)) {
+      ASSERT_EQ(phi[i] < 0, exact < 0) << "at level " << level;
+    }
+  }
+  // Every layer answered some of the points, and some lay beyond all bands.
+  for (int k = 0; k <= 3; ++k) EXPECT_GT(used[k], 0) << "layer " << k - 1;
+}
+
+TYPED_TEST(LevelSetTest, LeakingSphereStillHasAClosedInside) {
+  const TriangleMesh full = load_triangle_mesh(test_data("geometry/trimesh_unit_sphere.stl")).mesh;
+  Vec3 lo, hi;
+  bounding_box(full, lo, hi);
+  const Real dx = longest_side(lo, hi) / 64;
+  for (int holes : {1, 5, 20}) {
+    SCOPED_TRACE(std::to_string(holes) + " triangles deleted");
+    TriangleMesh leaking = full;
+    std::vector<std::array<std::uint32_t, 3>> removed;
+    for (int h = 0; h < holes; ++h) {
+      const std::size_t k = (std::size_t(h) * 613 + 17) % leaking.triangles.size();
+      removed.push_back(leaking.triangles[k]);
+      leaking.triangles.erase(leaking.triangles.begin() + std::ptrdiff_t(k));
+    }
+    TriangleMeshSearch search(leaking);
+    MultiResolutionLevelSet<3> level_set(this->policy, search.view(this->policy), lo, hi, dx);
+    const std::vector<Vec3> all = random_points<3>(lo * Real(1.3), hi * Real(1.3), 20000, 17);
+    std::vector<Vec3> points;
+    for (const Vec3& x : all) {
+      bool near_hole = false;
+      const Vec<double, 3> p{{x[0], x[1], x[2]}};
+      for (const auto& t : removed)
+        near_hole = near_hole || squared_distance(p, closest_point_on_triangle(p, full.vertices[t[0]], full.vertices[t[1]],
+                                                                               full.vertices[t[2]]).point) < 4 * dx * dx;
+      if (!near_hole) points.push_back(x);
+    }
+    std::vector<Real> phi;
+    std::vector<Vec3> normal;
+    probe(this->policy, level_set, points, phi, normal);
+    int right = 0;
+    for (Index i = 0; i < points.size(); ++i) {
+      const Real exact = brute_force_signed_distance(full, Vec<double, 3>{{points[i][0], points[i][1], points[i][2]}});
+      right += (phi[i] < 0) == (exact < 0);
+    }
+    const double fraction = double(right) / double(points.size());
+    std::printf("sphere with %d triangles deleted: sign right at %.5f of %zu points\n", holes, fraction, points.size());
+    EXPECT_GE(fraction, 0.999);
+  }
+}
+
+TYPED_TEST(LevelSetTest, TriangleSoupGivesNoNaN) {
+  const TriangleMesh mesh = load_triangle_mesh(test_data("geometry/trimesh_soup.stl")).mesh;
+  TriangleMeshSearch search(mesh);
+  Vec3 lo, hi;
+  bounding_box(mesh, lo, hi);
+  MultiResolutionLevelSet<3> level_set(this->policy, WindingNumberSign<TriangleMeshSearchView>{search.view(this->policy)},
+                                       lo, hi, longest_side(lo, hi) / 40);
+  int bad = 0;
+  for_each_data_point(level_set, [&](int, PackageType, const Vec3&, Real phi) { bad += !std::isfinite(phi); });
+  EXPECT_EQ(bad, 0);
+  for (Vec3 n : level_set.finest().normal.to_vector())
+    for (int k = 0; k < 3; ++k) bad += !std::isfinite(n[k]);
+  EXPECT_EQ(bad, 0);
+}
+
+TYPED_TEST(LevelSetTest, TwoDimensionalCircleAndPolygons) {
+  const SphereShape<2> circle{Vec<Real, 2>{{0.1, 0.2}}, Real(0.9)};
+  MultiResolutionLevelSet<2> a(this->policy, circle, Vec<Real, 2>{{-0.8, -0.7}}, Vec<Real, 2>{{1.0, 1.1}}, Real(1) / 64);
+  Real worst = 0;
+  for_each_data_point(a, [&](int, PackageType, const Vec<Real, 2>& x, Real phi) {
+    worst = std::max(worst, std::fabs(phi - circle.exact(x)));
+  });
+  EXPECT_LT(worst, roundoff);
+  EXPECT_GT(a.levels(), 1);
+
+  const PolygonSet polygons = read_polygons(test_data("geometry/plate_with_holes.poly")).polygons;
+  PolygonSearch search(polygons);
+  Vec<Real, 2> lo = Vec<Real, 2>::constant(std::numeric_limits<Real>::max()), hi = -lo;
+  for (const auto& v : polygons.vertices)
+    for (int k = 0; k < 2; ++k) {
+      lo[k] = std::min(lo[k], Real(v[k]));
+      hi[k] = std::max(hi[k], Real(v[k]));
+    }
+  const Real dx = std::max(hi[0] - lo[0], hi[1] - lo[1]) / 128;
+  MultiResolutionLevelSet<2> b(this->policy, search.view(this->policy), lo, hi, dx);
+  // Brute force over every edge of every loop; inside by the even-odd rule.
+  Real worst_distance = 0;
+  int wrong_sign = 0;
+  Index checked = 0;
+  for_each_data_point(b, [&](int level, PackageType type, const Vec<Real, 2>& x, Real phi) {
+    if (level != b.levels() - 1 || type != PackageType::core || checked++ % 7 != 0) return;
+    double best = std::numeric_limits<double>::max();
+    bool inside = false;
+    const Vec<double, 2> p{{x[0], x[1]}};
+    for (std::size_t loop = 0; loop + 1 < polygons.loop_start.size(); ++loop) {
+      const std::uint32_t begin = polygons.loop_start[loop], end = polygons.loop_start[loop + 1];
+      for (std::uint32_t i = begin; i < end; ++i) {
+        const Vec<double, 2> a = polygons.vertices[i], c = polygons.vertices[i + 1 < end ? i + 1 : begin];
+        const Vec<double, 2> e = c - a;
+        const double t = std::clamp(dot(p - a, e) / dot(e, e), 0.0, 1.0);
+        best = std::min(best, squared_norm(p - (a + e * t)));
+        if ((a[1] > p[1]) != (c[1] > p[1]) && p[0] < a[0] + (p[1] - a[1]) / (c[1] - a[1]) * e[0]) inside = !inside;
+      }
+    }
+    const double exact = inside ? -std::sqrt(best) : std::sqrt(best);
+    worst_distance = std::max(worst_distance, Real(std::fabs(std::fabs(phi) - std::sqrt(best))));
+    if (std::fabs(exact) > 1e-9) wrong_sign += (exact < 0) != (phi < 0);
+  });
+  EXPECT_LT(worst_distance, roundoff * 100);
+  EXPECT_EQ(wrong_sign, 0);
+}
+
+}  // namespace
