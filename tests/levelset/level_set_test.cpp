@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <map>
 #include <random>
 #include <string>
 #include <vector>
@@ -371,6 +372,76 @@ TYPED_TEST(LevelSetTest, TriangleSoupGivesNoNaN) {
   for (Vec3 n : level_set.finest().normal.to_vector())
     for (int k = 0; k < 3; ++k) bad += !std::isfinite(n[k]);
   EXPECT_EQ(bad, 0);
+}
+
+// Half-space y_0 > c: weight = F(s) = ∫_{-2h}^{s} W1(t) dt and gradient = W1(s) e_0, s = x_0 - c,
+// with W1(t) = 2 pi ∫_{|t|}^{2h} W(r) r dr the kernel's marginal along one axis.
+struct HalfSpaceKernelIntegrals {
+  sph::WendlandC2Kernel<double, 3> kernel;
+  mutable std::map<double, double> weights;
+  double marginal(double t) const {
+    const double a = std::fabs(t), b = kernel.cutoff();
+    if (a >= b) return 0;
+    const int n = 400;
+    double sum = 0;
+    for (int i = 0; i <= n; ++i) {
+      const double r = a + (b - a) * i / n, w = (i == 0 || i == n) ? 1 : (i % 2 ? 4 : 2);
+      sum += w * kernel.value(r) * r;
+    }
+    return 2 * pi<double>() * sum * (b - a) / (3 * n);
+  }
+  double weight(double s) const {
+    const auto cached = weights.find(s);
+    if (cached != weights.end()) return cached->second;
+    return weights[s] = integrate_weight(s);
+  }
+  double integrate_weight(double s) const {
+    const double a = -kernel.cutoff(), b = std::min(s, kernel.cutoff());
+    if (b <= a) return 0;
+    const int n = 400;
+    double sum = 0;
+    for (int i = 0; i <= n; ++i) sum += ((i == 0 || i == n) ? 1 : (i % 2 ? 4 : 2)) * marginal(a + (b - a) * i / n);
+    return sum * (b - a) / (3 * n);
+  }
+};
+
+TYPED_TEST(LevelSetTest, KernelIntegralsAgainstTheHalfSpace) {
+  // The face x = 0.5 of a long box, away from its edges, is a half-space for the kernel.
+  const BoxShape box{Vec3{{0.0, 0.0, 0.0}}, Vec3{{0.5, 1.0, 1.0}}};
+  const Real dx = Real(1) / 64;
+  MultiResolutionLevelSet<3> level_set(this->policy, box, box.centre - box.half, box.centre + box.half, dx, 2);
+  LevelSetLayer<3>& finest = level_set.finest();
+  const HalfSpaceKernelIntegrals exact{sph::WendlandC2Kernel<double, 3>::from_spacing(double(dx)), {}};
+  const std::vector<std::uint64_t> cells = finest.mesh.package_cell.to_vector();
+  const std::vector<Real> weight = finest.kernel_weight.to_vector();
+  const std::vector<Vec3> gradient = finest.kernel_gradient.to_vector();
+  double worst_weight = 0, worst_gradient = 0, largest_gradient = 0, deep_inside = 0, far_outside = 0;
+  for (Index p = far_field_packages; p < finest.packages(); ++p)
+    for (int l = 0; l < package_points<3>; ++l) {
+      const Vec3 x = finest.grid().data_position(finest.grid().coordinates(cells[p]), l);
+      if (std::fabs(x[1]) > 0.5 || std::fabs(x[2]) > 0.5) continue;
+      const Index i = p * package_points<3> + l;
+      const double s = double(x[0]) - 0.5;
+      // Deeper than the cutoff (2.6 dx) below the face, and far from the face x = -0.5.
+      if (s < -3 * double(dx) && x[0] > -0.3) deep_inside = std::max(deep_inside, std::fabs(double(weight[i])));
+      if (std::fabs(s) > 4 * double(dx)) {
+        if (s > 0) far_outside = std::max(far_outside, std::fabs(double(weight[i]) - 1));
+        continue;
+      }
+      worst_weight = std::max(worst_weight, std::fabs(double(weight[i]) - exact.weight(s)));
+      const double g = exact.marginal(s);
+      largest_gradient = std::max(largest_gradient, g);
+      worst_gradient = std::max(worst_gradient, norm(Vec<double, 3>{{double(gradient[i][0]) - g, double(gradient[i][1]),
+                                                                     double(gradient[i][2])}}));
+    }
+  std::printf("half-space kernel integrals at dx = 1/64: weight error %.2e, gradient error %.2e (largest %.3g, "
+              "relative %.2e), deep inside %.1e, far outside %.1e\n",
+              worst_weight, worst_gradient, largest_gradient, worst_gradient / largest_gradient, deep_inside, far_outside);
+  EXPECT_GT(largest_gradient, 1.0);
+  EXPECT_EQ(deep_inside, 0.0);
+  EXPECT_LT(far_outside, single ? 1e-5 : 1e-12);
+  EXPECT_LT(worst_weight, 1e-3);
+  EXPECT_LT(worst_gradient / largest_gradient, 1e-3);
 }
 
 TYPED_TEST(LevelSetTest, TwoDimensionalCircleAndPolygons) {

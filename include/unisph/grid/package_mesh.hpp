@@ -32,6 +32,10 @@ struct FlagPackages {
   View<std::uint32_t> flags;
   UNISPH_HOST_DEVICE void operator()(Index c) const { flags[c] = has_package(tags[c]) ? 1u : 0u; }
 };
+struct CountFlags {
+  View<const std::uint32_t> flags;
+  UNISPH_HOST_DEVICE Index operator()(Index c) const { return flags[c]; }
+};
 template <int D>
 struct ScatterPackages {
   PackageGrid<D> grid;
@@ -118,7 +122,7 @@ class PackageMesh {
     View<const CellTag> tag = tags.read(policy);
     DiscreteVariable<std::uint32_t> flags("PackageFlags", cells), offsets("PackageOffsets", cells);
     particle_for(policy, cells, k::FlagPackages{tag, flags.write(policy)});
-    const Index count = particle_reduce(policy, cells, Sum<Index>{}, CountFlags{flags.read(policy)});
+    const Index count = particle_reduce(policy, cells, Sum<Index>{}, k::CountFlags{flags.read(policy)});
     exclusive_scan(policy, View<const std::uint32_t>(flags.read(policy)), offsets.write(policy));
     if (count + far_field_packages > std::numeric_limits<std::uint32_t>::max())
       throw Error("PackageMesh::allocate: more packages than 32-bit package indices can address");
@@ -152,11 +156,6 @@ class PackageMesh {
   DiscreteVariable<PackageNeighbourhood<D>> neighbourhood{"PackageNeighbourhood"};
 
  private:
-  struct CountFlags {
-    View<const std::uint32_t> flags;
-    UNISPH_HOST_DEVICE Index operator()(Index c) const { return flags[c]; }
-  };
-
   PackageGrid<D> grid_;
   Index packages_ = far_field_packages;
 };

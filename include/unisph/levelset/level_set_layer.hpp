@@ -1,8 +1,9 @@
 #pragma once
 // One resolution of a multi-resolution level set: a package mesh over the cells whose tags
 // say core or inner, the signed distance phi at every data point of its packages and the unit
-// normal from phi. The far-field packages hold +far_field_distance (outside) and
-// -far_field_distance (inside), two cell sizes, and a zero normal.
+// normal from phi, the kernel integrals over the outside (kernel_integrals.hpp). The far-field
+// packages hold +far_field_distance (outside) and -far_field_distance (inside), two cell sizes,
+// a zero normal, kernel weight 1 (outside) or 0 (inside) and a zero kernel gradient.
 //
 // Built by MultiResolutionLevelSet, stage by stage, each stage a kernel on the chosen policy.
 
@@ -11,6 +12,7 @@
 #include "unisph/exec/algorithms.hpp"
 #include "unisph/grid/package_for.hpp"
 #include "unisph/grid/package_mesh.hpp"
+#include "unisph/levelset/kernel_integrals.hpp"
 #include "unisph/levelset/level_set_layer_view.hpp"
 #include "unisph/levelset/regularized_gradient.hpp"
 #include "unisph/memory/discrete_variable.hpp"
@@ -26,6 +28,15 @@ struct FarFieldValues {
   UNISPH_HOST_DEVICE void operator()(Index i) const {
     phi[i] = i < Index(package_points<D>) ? distance : -distance;
     normal[i] = Vec<Real, D>{};
+  }
+};
+template <int D>
+struct FarFieldKernelIntegrals {
+  View<Real> weight;
+  View<Vec<Real, D>> gradient;
+  UNISPH_HOST_DEVICE void operator()(Index i) const {
+    weight[i] = i < Index(package_points<D>) ? Real(1) : Real(0);
+    gradient[i] = Vec<Real, D>{};
   }
 };
 template <int D, class Shape>
@@ -92,9 +103,34 @@ class LevelSetLayer {
     fence(policy);
   }
 
+  // Kernel integrals (kernel_integrals.hpp) at every data point, from phi and the normal.
+  template <ExecutionPolicy P>
+  void compute_kernel_integrals(P policy, Real smoothing_length) {
+    kernel_weight.resize(packages() * package_points<D>);
+    kernel_gradient.resize(packages() * package_points<D>);
+    View<Real> weight = kernel_weight.write(policy);
+    View<Vec<Real, D>> gradient = kernel_gradient.write(policy);
+    particle_for(policy, Index(far_field_packages) * package_points<D>,
+                 level_set_kernels::FarFieldKernelIntegrals<D>{weight, gradient});
+    const Real dx = grid().data_spacing;
+    const auto kernel = sph::WendlandC2Kernel<Real, D>::from_spacing(
+        smoothing_length / sph::WendlandC2Kernel<Real, D>::smoothing_length_ratio);
+    data_point_for(policy, mesh,
+                   KernelIntegralsAtDataPoints<D>{phi.read(policy), normal.read(policy), mesh.neighbourhood.read(policy),
+                                                  weight, gradient, HalfSpaceKernelIntegral<D>{kernel}, dx,
+                                                  kernel.lattice_sum(dx)});
+    fence(policy);
+  }
+
   template <ExecutionPolicy P>
   LevelSetLayerView<D> view(P policy) {
-    return {grid(), mesh.cell_package.read(policy), phi.read(policy), normal.read(policy), far_field_distance};
+    return {grid(),
+            mesh.cell_package.read(policy),
+            phi.read(policy),
+            normal.read(policy),
+            kernel_weight.read(policy),
+            kernel_gradient.read(policy),
+            far_field_distance};
   }
 
   // Bytes per data point of what a probe and the stencils need: phi, the cell -> package
@@ -110,6 +146,8 @@ class LevelSetLayer {
   DiscreteVariable<CellTag> tags;
   DiscreteVariable<Real> phi{"LevelSetPhi"};
   DiscreteVariable<Vec<Real, D>> normal{"LevelSetNormal"};
+  DiscreteVariable<Real> kernel_weight{"LevelSetKernelWeight"};
+  DiscreteVariable<Vec<Real, D>> kernel_gradient{"LevelSetKernelGradient"};
   Real far_field_distance;
 };
 

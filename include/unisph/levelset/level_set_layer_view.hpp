@@ -24,6 +24,8 @@ struct LevelSetLayerView {
   View<const std::uint32_t> cell_package;
   View<const Real> phi;            // packages * 4^D
   View<const Vec<Real, D>> normal; // packages * 4^D
+  View<const Real> kernel_weight;  // packages * 4^D
+  View<const Vec<Real, D>> kernel_gradient;
   Real far_field_distance;         // |phi| held by the far-field packages
 
   // The package a cell points to; cells beyond the grid are outside.
@@ -86,6 +88,10 @@ struct LevelSetLayerView {
   }
 
   UNISPH_HOST_DEVICE Real probe_phi(const Vec<Real, D>& x) const { return interpolate(phi, x); }
+  UNISPH_HOST_DEVICE Real probe_kernel_weight(const Vec<Real, D>& x) const { return interpolate(kernel_weight, x); }
+  UNISPH_HOST_DEVICE Vec<Real, D> probe_kernel_gradient(const Vec<Real, D>& x) const {
+    return interpolate(kernel_gradient, x);
+  }
   // The interpolated normal, made unit again (zero where it vanishes).
   UNISPH_HOST_DEVICE Vec<Real, D> probe_normal(const Vec<Real, D>& x) const {
     const Vec<Real, D> n = interpolate(normal, x);

@@ -17,6 +17,9 @@
 //   distance   phi at every data point: exact distance to the surface (BVH closest point), the
 //              sign from the pseudonormal
 //   normals    regularised central difference of phi
+//   kernel integrals   of the Wendland kernel (h = 1.3 finest dx) and its gradient over the
+//                      outside (kernel_integrals.hpp; skipped when with_kernel_integrals is
+//                      false, and then not to be probed)
 //
 // The grid: cells of the coarsest layer are 4 * dx * 2^(levels - 1) wide; the box [lo, hi] is
 // padded by two coarse cells on every side, so the border of the grid is far field.
@@ -40,7 +43,7 @@
 namespace unisph {
 
 struct LevelSetStageTimes {
-  double tagging = 0, packages = 0, distance = 0, normals = 0;
+  double tagging = 0, packages = 0, distance = 0, normals = 0, kernel_integrals = 0;
 };
 
 template <int D>
@@ -54,7 +57,9 @@ class MultiResolutionLevelSet {
   // with the same nearest(p).squared_distance and sign(p, nearest) (analytic shapes in tests).
   template <ExecutionPolicy P, class Shape>
   MultiResolutionLevelSet(P policy, const Shape& shape, const Vec<Real, D>& lo, const Vec<Real, D>& hi,
-                          Real data_spacing, int levels = 0) {
+                          Real data_spacing, int levels = 0, bool with_kernel_integrals = true)
+      : with_kernel_integrals_(with_kernel_integrals),
+        smoothing_length_(sph::WendlandC2Kernel<Real, D>::smoothing_length_ratio * data_spacing) {
     if (!(data_spacing > Real(0))) throw Error("level set: the data spacing must be positive");
     Real longest = Real(0);
     for (int k = 0; k < D; ++k) longest = hi[k] - lo[k] > longest ? hi[k] - lo[k] : longest;
@@ -123,6 +128,8 @@ class MultiResolutionLevelSet {
     auto t3 = Clock::now();
     layer.compute_normals(policy);
     auto t4 = Clock::now();
+    if (with_kernel_integrals_) layer.compute_kernel_integrals(policy, smoothing_length_);
+    times_.kernel_integrals += std::chrono::duration<double>(Clock::now() - t4).count();
     times_.tagging += std::chrono::duration<double>(t1 - t0).count();
     times_.packages += std::chrono::duration<double>(t2 - t1).count();
     times_.distance += std::chrono::duration<double>(t3 - t2).count();
@@ -131,6 +138,8 @@ class MultiResolutionLevelSet {
 
   std::vector<std::unique_ptr<LevelSetLayer<D>>> layers_;
   LevelSetStageTimes times_;
+  bool with_kernel_integrals_;
+  Real smoothing_length_;  // of the kernel integrals: 1.3 times the finest data spacing
 };
 
 }  // namespace unisph

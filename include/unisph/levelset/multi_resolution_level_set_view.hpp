@@ -29,6 +29,14 @@ struct MultiResolutionLevelSetView {
     const int level = resolving_layer(x);
     return layer[level >= 0 ? level : 0].probe_phi(x);
   }
+  UNISPH_HOST_DEVICE Real probe_kernel_weight(const Vec<Real, D>& x) const {
+    const int level = resolving_layer(x);
+    return layer[level >= 0 ? level : 0].probe_kernel_weight(x);
+  }
+  UNISPH_HOST_DEVICE Vec<Real, D> probe_kernel_gradient(const Vec<Real, D>& x) const {
+    const int level = resolving_layer(x);
+    return level >= 0 ? layer[level].probe_kernel_gradient(x) : Vec<Real, D>{};
+  }
   UNISPH_HOST_DEVICE Vec<Real, D> probe_normal(const Vec<Real, D>& x) const {
     const int level = resolving_layer(x);
     return level >= 0 ? layer[level].probe_normal(x) : Vec<Real, D>{};
