@@ -6,8 +6,10 @@
 // sigma0 is the lattice sum of W (WendlandC2Kernel::lattice_sum), V_i0 = dx^D, so a particle
 // inside a fluid at rest on the initial lattice gets exactly its initial density. Wall dummy
 // particles count as fluid of particle i's own density (they are its mirror). Near a free
-// surface the sum lacks neighbours and underestimates the density; the correction keeps the
-// current density there:  rho_i <- rho_sum + max(0, rho_i - rho_sum) rho0 / rho_i.
+// surface the sum lacks neighbours and underestimates the density; the correction sets the
+// reference density there (zero pressure, no tension):  rho_i <- max(rho_sum, rho0).
+// Everywhere else the summed density replaces the one the continuity equation carried, so
+// its drift does not accumulate over advection steps.
 #include <type_traits>
 
 #include "unisph/dynamics/local_dynamics.hpp"
@@ -44,15 +46,13 @@ class DensitySummationFreeSurface : public InteractionDynamics<DensitySummationF
       wall.for_each_neighbor(i, [&](Index, const NeighborPair<T, D>& p) { wall_sum += kernel.value(p.distance()); });
       sum += mass[i] * wall_sum;  // the wall's volume is dx^D, as V_i0
       const T summed = sum * inverse_reference_sum;
-      const T current = density[i];
-      const T excess = current - summed;
-      density[i] = summed + (excess > T(0) ? excess : T(0)) * reference_density / current;
+      density[i] = summed > reference_density ? summed : reference_density;
     }
   };
   static_assert(std::is_trivially_copyable_v<Kernel>, "The density summation kernel is copied to the device byte for byte.");
 
   Kernel make_kernel(KernelContext& context) {
-    return {inner_.search(context), wall_.search(context), context.read(fluid_.mass), context.read_write(fluid_.density),
+    return {inner_.search(context), wall_.search(context), context.read(fluid_.mass), context.write(fluid_.density),
             kernel_, self_weight_, inverse_reference_sum_, reference_density_};
   }
   Index size() const { return fluid_.size(); }

@@ -1,0 +1,62 @@
+#!/usr/bin/python3
+"""Figures of `unisph run` observer files (observers.csv), for docs/validation.md.
+
+    sph_run_metrics.py crossing  RUN.csv [PROBE]          first time p* > 0.2, mean p* over [3.5, 5]
+    sph_run_metrics.py front     A.csv B.csv [T_MAX]      largest |front_A - front_B| / front_B for t* <= T_MAX
+"""
+import csv
+import sys
+
+
+def read(path):
+    with open(path) as f:
+        rows = [r for r in f if not r.startswith("#")]
+    cols = {}
+    for row in csv.DictReader(rows):
+        for k, v in row.items():
+            cols.setdefault(k, []).append(float(v))
+    return cols
+
+
+def interp(t, y, x):
+    for k in range(1, len(t)):
+        if t[k - 1] <= x <= t[k]:
+            w = (x - t[k - 1]) / (t[k] - t[k - 1]) if t[k] > t[k - 1] else 0
+            return y[k - 1] + w * (y[k] - y[k - 1])
+    return None
+
+
+def window_mean(t, y, a, b):
+    xs = [a] + [x for x in t if a < x < b] + [b]
+    s = sum(0.5 * (interp(t, y, xs[k - 1]) + interp(t, y, xs[k])) * (xs[k] - xs[k - 1]) for k in range(1, len(xs)))
+    return s / (b - a)
+
+
+def main():
+    what = sys.argv[1]
+    if what == "crossing":
+        d = read(sys.argv[2])
+        probe = sys.argv[3] if len(sys.argv) > 3 else "wall_0.2H"
+        t, p = d["time_star"], d["p_star_" + probe]
+        crossing = None
+        for k in range(1, len(t)):
+            if p[k] > 0.2:
+                crossing = t[k - 1] + (0.2 - p[k - 1]) / (p[k] - p[k - 1]) * (t[k] - t[k - 1])
+                break
+        mean = window_mean(t, p, 3.5, 5.0) if t[-1] >= 5 else float("nan")
+        print("crossing %.4f window_mean %.4f" % (crossing if crossing else float("nan"), mean))
+    elif what == "front":
+        a, b = read(sys.argv[2]), read(sys.argv[3])
+        tmax = float(sys.argv[4]) if len(sys.argv) > 4 else 1e30
+        worst = 0
+        for t, f in zip(a["time_star"], a["front"]):
+            if t > tmax:
+                break
+            g = interp(b["time_star"], b["front"], t)
+            if g:
+                worst = max(worst, abs(f - g) / g)
+        print("largest front difference %.4f %%" % (100 * worst))
+
+
+if __name__ == "__main__":
+    main()
