@@ -160,4 +160,37 @@ TYPED_TEST(ParticleReduce, BackToBackReductionsOfDifferentTypes) {
   }
 }
 
+// Heavy items: each item sums its own run of a long array (like a thread walking a whole
+// cell), 8192 items over 8 million values.
+struct SumOfRun {
+  View<const std::uint64_t> run_begin;
+  View<const double> values;
+  UNISPH_HOST_DEVICE double operator()(Index i) const {
+    double sum = 0;
+    for (std::uint64_t k = run_begin[i]; k < run_begin[i + 1]; ++k) sum += values[k];
+    return sum;
+  }
+};
+
+TYPED_TEST(ParticleReduce, HeavyItems) {
+  const Index items = 8192;
+  std::vector<std::uint64_t> begin(items + 1, 0);
+  std::uint64_t state = 12345;
+  for (Index i = 0; i < items; ++i) {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    begin[i + 1] = begin[i] + 200 + (state >> 33) % 1600;
+  }
+  DiscreteVariable<std::uint64_t> run_begin("run_begin");
+  run_begin.assign(begin);
+  DiscreteVariable<double> values("values", begin[items]);
+  double ref = 0;
+  {
+    View<double> h = values.write(MemorySpace::host);
+    for (Index k = 0; k < h.size(); ++k) ref += (h[k] = static_cast<double>(k % 1000));
+  }
+  const SumOfRun f{run_begin.read(this->policy), values.read(this->policy)};
+  EXPECT_EQ(particle_reduce(this->policy, items, Sum<double>{}, f), ref);
+  EXPECT_EQ(particle_reduce(this->policy, items, Sum<double>{}, f), ref);
+}
+
 }  // namespace
