@@ -14,6 +14,7 @@ void add_execution_options(CLI::App& command, ExecutionOptions& options);
 void add_info_command(CLI::App& app);
 void add_demo_command(CLI::App& app);
 void add_geometry_command(CLI::App& app);
+void add_levelset_command(CLI::App& app);
 void add_run_command(CLI::App& app);
 
 }  // namespace unisph::app

@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
   unisph::app::add_info_command(app);
   unisph::app::add_demo_command(app);
   unisph::app::add_geometry_command(app);
+  unisph::app::add_levelset_command(app);
   unisph::app::add_run_command(app);
   try {
     app.parse(argc, argv);

@@ -3,7 +3,12 @@
 // per stage the wall time (each stage ends with a fence), the packages and data points of the
 // finest layer and its memory per data point (phi, cell -> package index, package metadata).
 //
-//   bench_level_set [N ...] [--policy seq|par|device ...] [--repeat R]    default N: 256 512
+//   bench_level_set [N ...] [--policy seq|par|device ...] [--sign winding|pseudonormal]
+//                   [--no-kernel-integrals] [--repeat R]                      default N: 256 512
+//
+// --sign: the generalized winding number (default; right for teapot.stl, which has walls
+// inside its volume) or the pseudonormal of the nearest feature (cheaper; wrong next to those
+// walls).
 //
 // The mesh is read and its BVH built once, outside the timings; the GPU is warmed up by one
 // small build first. The data folder is the source tree's tests/data, or $UNISPH_TEST_DATA_DIR.
@@ -27,24 +32,40 @@ std::string data_file(const std::string& relative) {
   return std::string(dir ? dir : UNISPH_BENCH_DATA_DIR) + "/" + relative;
 }
 
+struct Options {
+  bool winding = true;
+  bool kernel_integrals = true;
+  int repeat = 1;
+};
+
 template <class P>
-void run(P policy, TriangleMeshSearch& search, const Vec3& lo, const Vec3& hi, int n, int repeat) {
+MultiResolutionLevelSet<3> build(P policy, TriangleMeshSearch& search, const Vec3& lo, const Vec3& hi, Real dx,
+                                 const Options& options) {
+  if (options.winding)
+    return MultiResolutionLevelSet<3>(policy, WindingNumberSign<TriangleMeshSearchView>{search.view(policy)}, lo, hi, dx,
+                                      0, options.kernel_integrals);
+  return MultiResolutionLevelSet<3>(policy, search.view(policy), lo, hi, dx, 0, options.kernel_integrals);
+}
+
+template <class P>
+void run(P policy, TriangleMeshSearch& search, const Vec3& lo, const Vec3& hi, int n, const Options& options) {
   Real longest = 0;
   for (int k = 0; k < 3; ++k) longest = std::max(longest, hi[k] - lo[k]);
   const Real dx = longest / Real(n);
-  for (int r = 0; r < repeat; ++r) {
+  for (int r = 0; r < options.repeat; ++r) {
     const auto start = std::chrono::steady_clock::now();
-    MultiResolutionLevelSet<3> level_set(policy, search.view(policy), lo, hi, dx);
+    MultiResolutionLevelSet<3> level_set = build(policy, search, lo, hi, dx, options);
     fence(policy);
     const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const LevelSetStageTimes& t = level_set.stage_seconds();
     LevelSetLayer<3>& finest = level_set.finest();
     std::printf(
         "%-6s N=%-5d levels=%d finest: packages=%zu data_points=%zu bytes/point=%.2f | tagging %.3f s, packages %.3f "
-        "s, distance %.3f s, normals %.3f s, total %.3f s (%s)\n",
+        "s, distance %.3f s, normals %.3f s, kernel integrals %.3f s, total %.3f s (%s, %s sign)\n",
         std::string(P::name).c_str(), n, level_set.levels(), finest.data_packages(),
         finest.data_packages() * package_points<3>, finest.bytes_per_data_point(), t.tagging, t.packages, t.distance,
-        t.normals, total, sizeof(Real) == 4 ? "float" : "double");
+        t.normals, t.kernel_integrals, total, sizeof(Real) == 4 ? "float" : "double",
+        options.winding ? "winding" : "pseudonormal");
     std::fflush(stdout);
   }
 }
@@ -54,13 +75,17 @@ void run(P policy, TriangleMeshSearch& search, const Vec3& lo, const Vec3& hi, i
 int main(int argc, char** argv) {
   std::vector<int> sizes;
   std::vector<PolicyKind> policies;
-  int repeat = 1;
+  Options options;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--policy" && i + 1 < argc)
       policies.push_back(parse_policy(argv[++i]));
     else if (a == "--repeat" && i + 1 < argc)
-      repeat = std::atoi(argv[++i]);
+      options.repeat = std::atoi(argv[++i]);
+    else if (a == "--sign" && i + 1 < argc)
+      options.winding = std::string(argv[++i]) != "pseudonormal";
+    else if (a == "--no-kernel-integrals")
+      options.kernel_integrals = false;
     else
       sizes.push_back(std::atoi(a.c_str()));
   }
@@ -75,16 +100,16 @@ int main(int argc, char** argv) {
   for (PolicyKind kind : policies) {
     require_policy(kind);
     for (int n : sizes) {
-      if (kind == PolicyKind::seq) run(seq, search, lo, hi, n, repeat);
-      if (kind == PolicyKind::par) run(par, search, lo, hi, n, repeat);
+      if (kind == PolicyKind::seq) run(seq, search, lo, hi, n, options);
+      if (kind == PolicyKind::par) run(par, search, lo, hi, n, options);
 #if UNISPH_HAS_CUDA
       if (kind == PolicyKind::device) {
         static bool warm = false;
         if (!warm) {
-          MultiResolutionLevelSet<3> warm_up(par_device, search.view(par_device), lo, hi, (hi[0] - lo[0]) / 32);
+          build(par_device, search, lo, hi, (hi[0] - lo[0]) / 32, options);
           warm = true;
         }
-        run(par_device, search, lo, hi, n, repeat);
+        run(par_device, search, lo, hi, n, options);
       }
 #endif
     }

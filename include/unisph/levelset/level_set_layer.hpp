@@ -39,17 +39,27 @@ struct FarFieldKernelIntegrals {
     gradient[i] = Vec<Real, D>{};
   }
 };
+// Distance to the nearest feature at every data point. The sign: in a core package from the
+// shape at the point; in an inner package from the cell's side (decided at its centre, or by
+// the flood fill on the coarsest layer): a cell that is not core lies wholly on one side, since
+// its half diagonal (0.87 cell sizes) is shorter than its centre's distance to the surface.
+// That saves the per-point sign (the winding number, the dearer half of the work) in inner packages.
 template <int D, class Shape>
 struct SignedDistanceAtDataPoints {
   Shape shape;
   PackageGrid<D> grid;
   View<const std::uint64_t> package_cell;
+  View<const PackageType> package_type;
+  View<const CellTag> cell_side;
   View<Real> phi;
   UNISPH_HOST_DEVICE void operator()(std::uint32_t package, int local_point) const {
-    const Vec<Real, D> x = grid.data_position(grid.coordinates(package_cell[package]), local_point);
+    const Index cell = package_cell[package];
+    const Vec<Real, D> x = grid.data_position(grid.coordinates(cell), local_point);
     const auto nearest = shape.nearest(x);
     const Real distance = std::sqrt(nearest.squared_distance);
-    phi[Index(package) * package_points<D> + local_point] = shape.sign(x, nearest) > 0 ? distance : -distance;
+    const bool outside = package_type[package] == PackageType::core ? shape.sign(x, nearest) > 0
+                                                                     : cell_side[cell] != CellTag::inside;
+    phi[Index(package) * package_points<D> + local_point] = outside ? distance : -distance;
   }
 };
 template <int D>
@@ -72,7 +82,10 @@ class LevelSetLayer {
   static constexpr int dimension = D;
 
   explicit LevelSetLayer(const PackageGrid<D>& grid)
-      : mesh(grid), tags("CellTag", grid.cell_count()), far_field_distance(Real(2) * grid.cell_size()) {}
+      : mesh(grid),
+        tags("CellTag", grid.cell_count()),
+        cell_side("CellSide", grid.cell_count()),
+        far_field_distance(Real(2) * grid.cell_size()) {}
 
   const PackageGrid<D>& grid() const { return mesh.grid(); }
   Index packages() const { return mesh.packages(); }
@@ -92,7 +105,9 @@ class LevelSetLayer {
     particle_for(policy, Index(far_field_packages) * package_points<D>,
                  k::FarFieldValues<D>{values, normal.write(policy), far_field_distance});
     data_point_for(policy, mesh,
-                   k::SignedDistanceAtDataPoints<D, Shape>{shape, grid(), mesh.package_cell.read(policy), values});
+                   k::SignedDistanceAtDataPoints<D, Shape>{shape, grid(), mesh.package_cell.read(policy),
+                                                           mesh.package_type.read(policy), cell_side.read(policy),
+                                                           values});
     fence(policy);
   }
   template <ExecutionPolicy P>
@@ -143,7 +158,8 @@ class LevelSetLayer {
   }
 
   PackageMesh<D> mesh;
-  DiscreteVariable<CellTag> tags;
+  DiscreteVariable<CellTag> tags;       // outside, inside, inner or core
+  DiscreteVariable<CellTag> cell_side;  // before inner tagging: core, or the side of a cell without surface
   DiscreteVariable<Real> phi{"LevelSetPhi"};
   DiscreteVariable<Vec<Real, D>> normal{"LevelSetNormal"};
   DiscreteVariable<Real> kernel_weight{"LevelSetKernelWeight"};

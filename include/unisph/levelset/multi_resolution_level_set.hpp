@@ -15,7 +15,8 @@
 //   packages   allocation sorted by Morton key (same layout on every policy and run), the
 //              neighbourhood tables
 //   distance   phi at every data point: exact distance to the surface (BVH closest point), the
-//              sign from the pseudonormal
+//              sign from the shape (pseudonormal or winding number) in core packages, from the
+//              cell's side in inner ones
 //   normals    regularised central difference of phi
 //   kernel integrals   of the Wendland kernel (h = 1.3 finest dx) and its gradient over the
 //                      outside (kernel_integrals.hpp; skipped when with_kernel_integrals is
@@ -83,6 +84,11 @@ class MultiResolutionLevelSet {
       for (int k = 0; k < D; ++k) grid.cells[k] *= 2;
     }
     for (int level = 0; level < levels; ++level) build_layer(policy, shape, level);
+    // The per-cell tags only serve the build of the next layer.
+    for (auto& layer : layers_) {
+      layer->tags.resize(0);
+      layer->cell_side.resize(0);
+    }
   }
 
   int levels() const { return int(layers_.size()); }
@@ -106,7 +112,7 @@ class MultiResolutionLevelSet {
     const Index cells = grid.cell_count();
     using Clock = std::chrono::steady_clock;
     auto t0 = Clock::now();
-    DiscreteVariable<CellTag> decided("CellTagDecided", cells);
+    DiscreteVariable<CellTag>& decided = layer.cell_side;
     if (level == 0) {
       View<CellTag> tags = decided.write(policy);
       particle_for(policy, cells, TagEveryCell<D, Shape>{shape, grid, tags});
