@@ -334,7 +334,7 @@ TYPED_TEST(LevelSetTest, LeakingSphereStillHasAClosedInside) {
       leaking.triangles.erase(leaking.triangles.begin() + std::ptrdiff_t(k));
     }
     TriangleMeshSearch search(leaking);
-    MultiResolutionLevelSet<3> level_set(this->policy, search.view(this->policy), lo, hi, dx);
+    MultiResolutionLevelSet<3> level_set(this->policy, search.view(this->policy), lo, hi, dx, 3);
     const std::vector<Vec3> all = random_points<3>(lo * Real(1.3), hi * Real(1.3), 20000, 17);
     std::vector<Vec3> points;
     for (const Vec3& x : all) {
@@ -446,7 +446,7 @@ TYPED_TEST(LevelSetTest, KernelIntegralsAgainstTheHalfSpace) {
 
 TYPED_TEST(LevelSetTest, TwoDimensionalCircleAndPolygons) {
   const SphereShape<2> circle{Vec<Real, 2>{{0.1, 0.2}}, Real(0.9)};
-  MultiResolutionLevelSet<2> a(this->policy, circle, Vec<Real, 2>{{-0.8, -0.7}}, Vec<Real, 2>{{1.0, 1.1}}, Real(1) / 64);
+  MultiResolutionLevelSet<2> a(this->policy, circle, Vec<Real, 2>{{-0.8, -0.7}}, Vec<Real, 2>{{1.0, 1.1}}, Real(1) / 64, 3);
   Real worst = 0;
   for_each_data_point(a, [&](int, PackageType, const Vec<Real, 2>& x, Real phi) {
     worst = std::max(worst, std::fabs(phi - circle.exact(x)));

@@ -52,8 +52,8 @@ class MultiResolutionLevelSet {
  public:
   static constexpr int dimension = D;
 
-  // levels = 0 picks as many as keep the coarsest layer at 8 or more cells along the box's
-  // longest side.
+  // levels = 0 picks as many as keep the coarsest layer at 16 or more cells along the box's
+  // longest side (fewer would make the padding of two coarse cells a large part of every layer).
   // shape: ShapeSearchView<D> in the policy's memory space, or any trivially copyable object
   // with the same nearest(p).squared_distance and sign(p, nearest) (analytic shapes in tests).
   template <ExecutionPolicy P, class Shape>
@@ -66,7 +66,7 @@ class MultiResolutionLevelSet {
     for (int k = 0; k < D; ++k) longest = hi[k] - lo[k] > longest ? hi[k] - lo[k] : longest;
     if (levels <= 0) {
       levels = 1;
-      while (levels < max_level_set_layers && longest / (Real(package_size) * data_spacing * Real(1 << levels)) >= Real(8))
+      while (levels < max_level_set_layers && longest / (Real(package_size) * data_spacing * Real(1 << levels)) >= Real(16))
         ++levels;
     }
     if (levels > max_level_set_layers)
