@@ -182,11 +182,16 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
                  ") is thinner than one particle spacing dx = " + Reader::format(c.dx));
 
   const toml::table& fluid = r.table(root, "fluid", true);
-  r.only_keys(fluid, "fluid.", {"density", "sound_speed", "reference_velocity", "viscosity"});
+  r.only_keys(fluid, "fluid.", {"density", "sound_speed", "reference_velocity", "viscosity", "continuity_dissipation"});
   c.density = r.positive(fluid, "fluid.", "density");
   c.sound_speed = r.positive(fluid, "fluid.", "sound_speed");
   c.reference_velocity = r.positive(fluid, "fluid.", "reference_velocity");
   c.viscosity = r.non_negative(fluid, "fluid.", "viscosity", 0.0);
+  if (const toml::node* node = fluid.get("continuity_dissipation")) {
+    if (!node->is_boolean())
+      r.fail(node, "fluid.continuity_dissipation", std::string("must be true or false (it is a ") + Reader::type_name(*node) + ")");
+    c.continuity_dissipation = node->as_boolean()->get();
+  }
 
   const toml::table& physics = r.table(root, "physics", true);
   r.only_keys(physics, "physics.", {"gravity"});

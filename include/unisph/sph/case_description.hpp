@@ -27,6 +27,7 @@ struct CaseDescription {
   double sound_speed = 0;         // c0
   double reference_velocity = 0;  // U
   double viscosity = 0;           // dynamic viscosity mu
+  bool continuity_dissipation = false;  // Riemann velocity dissipation in the continuity equation
   // [physics]
   double gravity = 0;  // |g|, acting along -y
   // [initial]

@@ -1,10 +1,14 @@
 #pragma once
 // The second half of an acoustic step (continuity), in two kernels:
 //
-//   DensityRelaxation   drho_i/dt = rho_i sum_j [ (v_i - v_j).e_ij + (p_i - p_j)/(rho0 c0) ] dW_ij V_j
+//   DensityRelaxation   drho_i/dt = rho_i sum_j [ (v_i - v_j).e_ij + k (p_i - p_j)/(rho0 c0) ] dW_ij V_j
 //                                 + rho_i sum_w 2 (v_i . n_w)(n_w . e_iw) dW_iw V_w
 //                       i.e. 2 rho_i (v_i - u*) . grad W with the acoustic Riemann interface
 //                       velocity u*; the wall is a mirror (normal velocity reversed, wall at rest).
+//                       k = 1 keeps the Riemann velocity dissipation, k = 0 drops it. Free-surface
+//                       flows take k = 0: under gravity p_i - p_j does not vanish where a particle
+//                       lacks neighbours (free surface, wall), and the term would then create
+//                       pressure in water at rest (measured: the hydrostatic tank then sloshes).
 //   DensityUpdate       rho += drho/dt dt/2 (the other half is applied at the next step's start)
 #include <type_traits>
 
@@ -22,9 +26,9 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
  public:
   DensityRelaxation(FluidVariables<T, D>& fluid, WallVariables<T, D>& wall, InnerRelation<T, D>& inner,
                     ContactRelation<T, D>& contact, WendlandC2Kernel<T, D> kernel, AcousticRiemannSolver<T> riemann,
-                    T wall_volume)
+                    T wall_volume, bool riemann_dissipation)
       : fluid_(fluid), wall_(wall), inner_(inner), contact_(contact), kernel_(kernel), riemann_(riemann),
-        wall_volume_(wall_volume) {}
+        wall_volume_(wall_volume), dissipation_(riemann_dissipation ? T(1) : T(0)) {}
 
   struct Kernel {
     NeighborSearch<T, D> inner, contact;
@@ -34,6 +38,7 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
     WendlandC2Kernel<T, D> kernel;
     AcousticRiemannSolver<T> riemann;
     T wall_volume;
+    T dissipation;  // k
 
     UNISPH_HOST_DEVICE void interaction(Index i, Real) const {
       const Vec<T, D> v_i = velocity[i];
@@ -42,7 +47,7 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
       inner.for_each_neighbor(i, [&](Index j, const NeighborPair<T, D>& pair) {
         const T r = pair.distance();
         const Vec<T, D> e = pair.r_ij * (T(1) / r);
-        const T divergence = dot(v_i - velocity[j], e) + riemann.velocity_dissipation(p_i, pressure[j]);
+        const T divergence = dot(v_i - velocity[j], e) + dissipation * riemann.velocity_dissipation(p_i, pressure[j]);
         rate += divergence * kernel.derivative(r) * mass[j] / density[j];
       });
       contact.for_each_neighbor(i, [&](Index w, const NeighborPair<T, D>& pair) {
@@ -59,7 +64,7 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
   Kernel make_kernel(KernelContext& c) {
     return {inner_.search(c), contact_.search(c), c.read(fluid_.velocity), c.read(wall_.normal),
             c.read(fluid_.density), c.read(fluid_.pressure), c.read(fluid_.mass),
-            c.write(fluid_.density_change_rate), kernel_, riemann_, wall_volume_};
+            c.write(fluid_.density_change_rate), kernel_, riemann_, wall_volume_, dissipation_};
   }
   Index size() const { return fluid_.size(); }
 
@@ -71,6 +76,7 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
   WendlandC2Kernel<T, D> kernel_;
   AcousticRiemannSolver<T> riemann_;
   T wall_volume_;
+  T dissipation_;
 };
 
 template <class T, int D>

@@ -75,7 +75,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
         pressure_start(fluid, eos),
         pressure_relaxation(fluid, wall, inner, contact, kernel, riemann, wall_volume),
         velocity_update(fluid),
-        density_relaxation(fluid, wall, inner, contact, kernel, riemann, wall_volume),
+        density_relaxation(fluid, wall, inner, contact, kernel, riemann, wall_volume, c.continuity_dissipation),
         density_update(fluid),
         max_speed(fluid),
         front(fluid, 0, T(c.dx)),
