@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# `unisph run` on a broken case file: exit status != 0, one error line naming file, line and key,
+# and no output folder written; a run that blows up names step, variable and particle.   case_error_cli_test.sh UNISPH CASES_DIR WORK_DIR
+set -u
+exe=$1; cases=$2; work=$3
+rm -rf "$work"; mkdir -p "$work"
+sed 's/^dx = 0.025 .*/dx = -0.025/' "$cases/dambreak_2d.toml" > "$work/negative_dx.toml"
+sed 's/^column = \[2.0, 1.0\]/column = [6.0, 1.0]/' "$cases/dambreak_2d.toml" > "$work/big_column.toml"
+sed 's/^gravity = 1.0/gravity = "down"/' "$cases/dambreak_2d.toml" > "$work/wrong_type.toml"
+sed 's/^sound_speed = 20.0.*/sound_speed = 20.0\nspeed_of_sound = 20.0/' "$cases/dambreak_2d.toml" > "$work/unknown_key.toml"
+sed '/^density = 1.0/d' "$cases/dambreak_2d.toml" > "$work/missing.toml"
+status=0
+for case in negative_dx:geometry.dx big_column:geometry.column wrong_type:physics.gravity unknown_key:fluid.speed_of_sound missing:fluid.density; do
+  name=${case%%:*}; key=${case#*:}
+  "$exe" run "$work/$name.toml" --output "$work/out_$name" --policy seq > "$work/$name.out" 2> "$work/$name.err"
+  rc=$?
+  lines=$(wc -l < "$work/$name.err")
+  if [ $rc -eq 0 ] || [ "$lines" -ne 1 ] || ! grep -q "$name.toml:[0-9]*: key '$key'" "$work/$name.err" || [ -e "$work/out_$name" ]; then
+    echo "FAIL $name: rc $rc, $lines error lines: $(cat "$work/$name.err")"; status=1
+  else
+    echo "ok   $name: $(cat "$work/$name.err")"
+  fi
+done
+# A run that blows up (c0 far too small: the water falls through the floor) stops with a
+# diagnostic naming the step, the variable and the particle, exit status 2, snapshots kept.
+sed 's/^sound_speed = 20.0.*/sound_speed = 0.3/' "$cases/dambreak_2d.toml" > "$work/blow_up.toml"
+"$exe" run "$work/blow_up.toml" --policy seq --end-time 3 --output "$work/out_blow_up" --quiet 2> "$work/blow_up.err"
+rc=$?
+if [ $rc -ne 2 ] || ! grep -q "step [0-9]* (t = .*): variable 'Position (outside the domain)' of fluid particle id [0-9]*" "$work/blow_up.err" ||
+   [ ! -s "$work/out_blow_up/Water_000000.vtp" ] || ! grep -q "^FAILED: " "$work/out_blow_up/run.log"; then
+  echo "FAIL blow_up: rc $rc: $(cat "$work/blow_up.err")"; status=1
+else
+  echo "ok   blow_up: $(cat "$work/blow_up.err")"
+fi
+exit $status
