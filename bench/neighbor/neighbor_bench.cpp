@@ -6,7 +6,7 @@
 //   BM_DensityPass        one pass of rho_i = m sum_j W(r_ij) (Wendland C2), direct search
 //                         or stored lists, through the kernel-shell layer (InteractionDynamics)
 //   BM_MortonSort         keys, radix sort and permutation of the sortable variables
-// Counters: particles, candidate pairs (particles in the 3^3 cells walked) and neighbour pairs
+// Counters: particles, candidate pairs (particles in the cells walked) and neighbour pairs
 // per second, ms per 10^6 particles, and the mean density (1 for this lattice: a check).
 #include <benchmark/benchmark.h>
 
@@ -100,10 +100,19 @@ Box<T, D> lattice_box(int side) {
   return {Position::constant(-0.5f * dx), Position::constant((T(side) - 0.5f) * dx)};
 }
 
-// Positions of the jittered lattice in the requested order (cached: shared by every policy).
-const std::vector<Position>& lattice(int side, Order order) {
+// Cells of cutoff / split (split = 1: the default cell size, the 3^3 stencil).
+// The smallest such size that still makes split cells reach the cutoff (SearchGrid::reach).
+T cell_size_for(int split) {
+  T size = cutoff / T(split);
+  while (T(split) * size < cutoff) size = std::nextafter(size, cutoff);
+  return size;
+}
+
+// Positions of the jittered lattice in the requested order, sorted on the grid of the cell
+// list that will search them (cached: shared by every policy).
+const std::vector<Position>& lattice(int side, Order order, int split) {
   static std::map<std::pair<int, int>, std::vector<Position>> cache;
-  auto key = std::make_pair(side, int(order));
+  auto key = std::make_pair(side, int(order) + 8 * split);
   if (auto it = cache.find(key); it != cache.end()) return it->second;
   const Index n = Index(side) * side * side;
   std::vector<Position> x(n);
@@ -118,8 +127,9 @@ const std::vector<Position>& lattice(int side, Order order) {
   } else {
     Body<T, D> body("Lattice", lattice_box(side), n);
     body.positions().assign(x);
-    ParticleSorter<T, D> sorter(body.particles(), body.positions(), SearchGrid<T, D>::make(lattice_box(side), cutoff),
-                                1, order == morton ? SortOrder::morton : SortOrder::cell_index);
+    ParticleSorter<T, D> sorter(body.particles(), body.positions(),
+                                SearchGrid<T, D>::make(lattice_box(side), cutoff, cell_size_for(split)), 1,
+                                order == morton ? SortOrder::morton : SortOrder::cell_index);
     sorter.sort(par);
     x = body.positions().to_vector();
   }
@@ -145,15 +155,15 @@ struct Case {
   std::uint64_t candidates = 0;
   std::uint64_t neighbors = 0;
 
-  Case(P policy, Index particles, Order order, SearchMethod method)
+  Case(P policy, Index particles, Order order, SearchMethod method, int split)
       : side(side_for(particles)),
         n(Index(side) * side * side),
         body("Lattice", lattice_box(side), n),
-        cells(body.positions(), body.domain(), cutoff),
+        cells(body.positions(), body.domain(), cutoff, OutsideParticles::clamp, cell_size_for(split)),
         relation(cells, method),
         density("Density", n),
         summation(relation, density, n) {
-    body.positions().assign(lattice(side, order));
+    body.positions().assign(lattice(side, order, split));
     cells.build(policy);
     const NeighborSearch<T, D> direct = relation.direct_search(policy);
     candidates = particle_reduce(policy, n, Sum<std::uint64_t>{}, CountCandidates{direct});
@@ -187,7 +197,7 @@ template <class P>
 void BM_CellListBuild(benchmark::State& state) {
   const P policy{};
   if (unavailable<P>(state)) return;
-  Case<P> c(policy, Index(state.range(0)), Order(state.range(1)), SearchMethod::direct);
+  Case<P> c(policy, Index(state.range(0)), Order(state.range(1)), SearchMethod::direct, int(state.range(2)));
   for (auto _ : state) {
     c.cells.build(policy);
     fence(policy);
@@ -199,7 +209,7 @@ template <class P>
 void BM_StoredListBuild(benchmark::State& state) {
   const P policy{};
   if (unavailable<P>(state)) return;
-  Case<P> c(policy, Index(state.range(0)), Order(state.range(1)), SearchMethod::stored);
+  Case<P> c(policy, Index(state.range(0)), Order(state.range(1)), SearchMethod::stored, int(state.range(2)));
   for (auto _ : state) {
     c.relation.update(policy);
     fence(policy);
@@ -211,7 +221,7 @@ template <class P, SearchMethod M>
 void BM_DensityPass(benchmark::State& state) {
   const P policy{};
   if (unavailable<P>(state)) return;
-  Case<P> c(policy, Index(state.range(0)), Order(state.range(1)), M);
+  Case<P> c(policy, Index(state.range(0)), Order(state.range(1)), M, int(state.range(2)));
   c.summation.exec(policy);  // builds the kernel
   fence(policy);
   for (auto _ : state) {
@@ -235,7 +245,7 @@ void BM_MortonSort(benchmark::State& state) {
   ParticleSorter<T, D> sorter(body.particles(), body.positions(), SearchGrid<T, D>::make(lattice_box(side), cutoff));
   for (auto _ : state) {
     state.PauseTiming();
-    body.positions().assign(lattice(side, random_order));
+    body.positions().assign(lattice(side, random_order, 1));
     body.positions().read(policy);  // the copy to the device is not part of the sort
     fence(policy);
     state.ResumeTiming();
@@ -246,20 +256,22 @@ void BM_MortonSort(benchmark::State& state) {
   state.counters["particles/s"] = benchmark::Counter(double(n) * double(state.iterations()), benchmark::Counter::kIsRate);
 }
 
-// order: 0 Morton, 1 random, 2 cell order. Host policies: 10^6 everywhere, 10^7 on par;
-// the device: 10^6, 4 x 10^6 and 10^7.
+// order: 0 Morton, 1 random, 2 cell order; split: cells of cutoff / split. Host policies:
+// 10^6 everywhere, 10^7 on par; the device: 10^6, 4 x 10^6 and 10^7.
 template <class P>
 void host_sizes(benchmark::internal::Benchmark* b) {
-  for (int order : {morton, random_order, cell_order}) {
-    b->Args({1000000, order});
-    if (std::is_same_v<P, ParallelPolicy>) b->Args({10000000, order});
-  }
-  b->ArgNames({"n", "order"})->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
+  for (int split : {1, 2})
+    for (int order : {morton, random_order, cell_order}) {
+      b->Args({1000000, order, split});
+      if (std::is_same_v<P, ParallelPolicy>) b->Args({10000000, order, split});
+    }
+  b->ArgNames({"n", "order", "split"})->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
 }
 void device_sizes(benchmark::internal::Benchmark* b) {
-  for (int order : {morton, random_order, cell_order})
-    for (int n : {1000000, 4000000, 10000000}) b->Args({n, order});
-  b->ArgNames({"n", "order"})->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(0.2);
+  for (int split : {1, 2, 3})
+    for (int order : {morton, random_order, cell_order})
+      for (int n : {1000000, 4000000, 10000000}) b->Args({n, order, split});
+  b->ArgNames({"n", "order", "split"})->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(0.2);
 }
 
 #define UNISPH_NEIGHBOR_BENCHMARKS(P, SIZES)                                                 \

@@ -98,7 +98,10 @@ TEST(HostSearchGrid, GeometryAndErrors) {
   EXPECT_EQ(g.place({{-0.1, 0.5}}).cell[0], 0);
   EXPECT_EQ(g.place({{std::numeric_limits<double>::infinity(), 0.5}}).cell[0], 4);
   EXPECT_EQ(G::make(unit, 0.25, 0.5).cells, (Vec<int, 2>{{3, 3}}));
-  EXPECT_THROW(G::make(unit, 0.25, 0.2), Error);   // cells smaller than the cutoff
+  EXPECT_EQ(G::make(unit, 0.25).reach, 1);
+  EXPECT_EQ(G::make(unit, 0.25, 0.2).reach, 2);       // cells smaller than the cutoff: a wider stencil
+  EXPECT_EQ(G::make(unit, 0.25, 0.0625).reach, 4);
+  EXPECT_THROW(G::make(unit, 0.25, 0.06), Error);     // below cutoff / SearchGrid::max_reach
   EXPECT_THROW(G::make(unit, 0.0), Error);
   EXPECT_THROW(G::make(unit, std::numeric_limits<double>::quiet_NaN()), Error);
   EXPECT_THROW(G::make({Vec<double, 2>::constant(1.0), Vec<double, 2>{}}, 0.1), Error);  // empty box

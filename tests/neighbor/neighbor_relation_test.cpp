@@ -107,10 +107,19 @@ std::vector<Vec<T, D>> contact_sources(Index n) {
   return x;
 }
 
+// Cells of cutoff / split: 1 is the default 3^D stencil; 2 and 3 search a wider stencil of
+// smaller cells and skip the cells beyond the cutoff (the lattice then lies on cell faces too).
+template <class T>
+T cell_size_for(T cutoff, int split) {
+  T size = cutoff / T(split);
+  while (T(split) * size < cutoff) size = std::nextafter(size, cutoff);
+  return size;
+}
+
 // The positions in cell order (the order ParticleSorter gives with SortOrder::cell_index).
 template <class T, int D>
-void sort_by_cell(Scenario<T, D>& s) {
-  const SearchGrid<T, D> grid = SearchGrid<T, D>::make(s.box, s.cutoff);
+void sort_by_cell(Scenario<T, D>& s, T cell_size) {
+  const SearchGrid<T, D> grid = SearchGrid<T, D>::make(s.box, s.cutoff, cell_size);
   std::stable_sort(s.positions.begin(), s.positions.end(), [&](const Vec<T, D>& a, const Vec<T, D>& b) {
     return grid.linear_index(grid.place(a).cell) < grid.linear_index(grid.place(b).cell);
   });
@@ -118,18 +127,22 @@ void sort_by_cell(Scenario<T, D>& s) {
 
 template <class T, int D, class P>
 void check_layouts(P policy) {
+  for (int split : {1, 2, 3})
   for (Layout layout : all_layouts)
   for (bool cell_ordered : {false, true})
     for (SearchMethod method : {SearchMethod::direct, SearchMethod::stored}) {
       const std::string what = std::string(to_string(layout)) + (cell_ordered ? " in cell order, " : ", ") +
                                std::to_string(D) + "D, " + (sizeof(T) == 4 ? "float" : "double") +
-                               (method == SearchMethod::direct ? ", direct search" : ", stored lists");
+                               (method == SearchMethod::direct ? ", direct search" : ", stored lists") +
+                               ", cells of cutoff / " + std::to_string(split);
       SCOPED_TRACE(what);
       Scenario<T, D> s = make_scenario<T, D>(layout);
-      if (cell_ordered) sort_by_cell(s);
+      const T cell_size = cell_size_for(s.cutoff, split);
+      if (cell_ordered) sort_by_cell(s, cell_size);
       DiscreteVariable<Vec<T, D>> x("Position");
       x.assign(s.positions);
-      CellLinkedList<T, D> cells(x, s.box, s.cutoff);
+      CellLinkedList<T, D> cells(x, s.box, s.cutoff, OutsideParticles::clamp, cell_size);
+      EXPECT_EQ(cells.grid().reach, split);
       cells.build(policy);
       InnerRelation<T, D> inner(cells, method);
       inner.update(policy);
@@ -275,7 +288,9 @@ void check_outside(P policy, OutsideParticles mode) {
   const Box<T, D> box{Vec<T, D>::constant(T(0)), Vec<T, D>::constant(T(1))};
   DiscreteVariable<Vec<T, D>> x("Position");
   x.assign(pos);
-  CellLinkedList<T, D> cells(x, box, T(0.1), mode);
+  for (int split : {1, 3}) {
+  SCOPED_TRACE("cells of cutoff / " + std::to_string(split));
+  CellLinkedList<T, D> cells(x, box, T(0.1), mode, cell_size_for(T(0.1), split));
   cells.build(policy);
   const CellListReport report = cells.report();
   Index outside_or_nan = 0;
@@ -293,6 +308,7 @@ void check_outside(P policy, OutsideParticles mode) {
     const NeighborSets got = collect(policy, inner.search(policy), x.size(), capacity_for(expected), errors);
     EXPECT_EQ(errors, 0u);
     EXPECT_TRUE(got == expected) << pair_count(got) << " pairs, expected " << pair_count(expected);
+  }
   }
 }
 

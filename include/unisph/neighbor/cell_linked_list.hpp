@@ -137,7 +137,8 @@ class CellLinkedList {
   using Position = Vec<T, D>;
 
   // A list over `positions` (all of them: owned particles and ghosts) in `box`, for
-  // neighbours closer than `cutoff`, with cells of `cell_size` (0: the cutoff).
+  // neighbours closer than `cutoff`, with cells of `cell_size` (0: the cutoff; down to
+  // cutoff / 4, which the search walks with a wider stencil: see search_grid.hpp).
   CellLinkedList(DiscreteVariable<Position>& positions, const Box<T, D>& box, T cutoff,
                  OutsideParticles outside = OutsideParticles::clamp, T cell_size = T(0))
       : positions_(positions),

@@ -8,8 +8,10 @@
 // fine for nvcc: only lambdas passed from host to a launch need extended-lambda support).
 //
 // Two ways of finding the neighbours, chosen by the relation (see docs/neighbor_search.md):
-//   direct search  walks the particles of the 3^D cells around x_i and applies the cutoff
-//                  test on the fly (nothing stored per pair; the device default);
+//   direct search  walks the particles of the cells around x_i (the 3^D around its own;
+//                  with cells smaller than the cutoff, those of the (2 reach + 1)^D that
+//                  come within the cutoff) and applies the cutoff test on the fly (nothing
+//                  stored per pair; the device default);
 //   stored lists   walks a CSR list of j built by a direct search at the last update (the
 //                  host default).
 // Both give the same j with the same r_ij (recomputed from the current positions).
@@ -18,6 +20,7 @@
 // relation another body's); the j come from the target cell list. In an inner relation j == i
 // is skipped, and a source in the flagged bucket (OutsideParticles::flag) has no neighbours.
 
+#include <cmath>
 #include <cstdint>
 
 #include "unisph/neighbor/cell_linked_list.hpp"
@@ -59,37 +62,17 @@ struct NeighborSearch {
 
   template <class F>
   UNISPH_HOST_DEVICE void for_each_direct_neighbor(Index i, F&& f) const {
-    const SearchGrid<T, D>& grid = targets.grid;
     const Vec<T, D> xi = sources[i];
-    const CellPlacement<D> placement = grid.place(xi);
-    if (placement.status & placement_non_finite) return;
-    if (inner && targets.flag_outside && placement.status != placement_inside) return;
-    const Vec<int, D>& c = placement.cell;
     const bool cell_order = targets.in_cell_order();
-    // The cells along axis 0 are consecutive: one range of particles per row of three cells.
-    const int x_first = c[0] > 0 ? c[0] - 1 : 0;
-    const int x_last = c[0] + 1 < grid.cells[0] ? c[0] + 1 : grid.cells[0] - 1;
-    constexpr int rows = D == 2 ? 3 : 9;
-    for (int row = 0; row < rows; ++row) {
-      Vec<int, D> first = c;
-      first[0] = x_first;
-      first[1] = c[1] + row % 3 - 1;
-      if (first[1] < 0 || first[1] >= grid.cells[1]) continue;
-      if constexpr (D == 3) {
-        first[2] = c[2] + row / 3 - 1;
-        if (first[2] < 0 || first[2] >= grid.cells[2]) continue;
-      }
-      const Index first_cell = grid.linear_index(first);
-      const Index last_cell = first_cell + static_cast<Index>(x_last - x_first);
-      const std::uint32_t begin = targets.offsets[first_cell];
-      const std::uint32_t end = targets.offsets[last_cell + 1];
+    for_each_candidate_range(xi, [&](std::uint32_t begin, std::uint32_t end) {
+      if (begin >= end) return;
       if (cell_order) {
         // The row's particles are the indices [begin, end): contiguous reads, no indirection.
         for (std::uint32_t j = begin; j < end; ++j) visit(i, xi, j, f);
       } else {
         for (std::uint32_t k = begin; k < end; ++k) visit(i, xi, targets.particles[k], f);
       }
-    }
+    });
   }
 
   template <class F>
@@ -102,28 +85,77 @@ struct NeighborSearch {
 
   // How many particles a direct search of i looks at (candidate pairs, for benchmarks).
   UNISPH_HOST_DEVICE Index candidate_count(Index i) const {
-    const SearchGrid<T, D>& grid = targets.grid;
-    const CellPlacement<D> placement = grid.place(sources[i]);
-    if (placement.status & placement_non_finite) return 0;
-    if (inner && targets.flag_outside && placement.status != placement_inside) return 0;
-    const Vec<int, D>& c = placement.cell;
-    const int x_first = c[0] > 0 ? c[0] - 1 : 0;
-    const int x_last = c[0] + 1 < grid.cells[0] ? c[0] + 1 : grid.cells[0] - 1;
     Index count = 0;
-    constexpr int rows = D == 2 ? 3 : 9;
-    for (int row = 0; row < rows; ++row) {
-      Vec<int, D> first = c;
-      first[0] = x_first;
-      first[1] = c[1] + row % 3 - 1;
-      if (first[1] < 0 || first[1] >= grid.cells[1]) continue;
-      if constexpr (D == 3) {
-        first[2] = c[2] + row / 3 - 1;
-        if (first[2] < 0 || first[2] >= grid.cells[2]) continue;
-      }
-      const Index first_cell = grid.linear_index(first);
-      count += targets.offsets[first_cell + static_cast<Index>(x_last - x_first) + 1] - targets.offsets[first_cell];
-    }
+    for_each_candidate_range(sources[i], [&](std::uint32_t begin, std::uint32_t end) { count += end - begin; });
     return count;
+  }
+
+  // Calls g(begin, end) for the CSR ranges [begin, end) of `targets.particles` that can hold
+  // neighbours of x: one range per row of cells along axis 0 (consecutive in the CSR). With
+  // cells smaller than the cutoff (grid.reach > 1) the cells whose nearest point is beyond
+  // the cutoff are skipped, axis by axis (planes, then rows, then the ends of each row); the
+  // test is in cell units with a padded radius (SearchGrid::stencil_radius), so it never
+  // skips a neighbour. Positions outside the box walk the whole clamped stencil.
+  template <class G>
+  UNISPH_HOST_DEVICE void for_each_candidate_range(const Vec<T, D>& x, G&& g) const {
+    const SearchGrid<T, D>& grid = targets.grid;
+    const CellPlacement<D> placement = grid.place(x);
+    if (placement.status & placement_non_finite) return;
+    if (inner && targets.flag_outside && placement.status != placement_inside) return;
+    const bool trim = grid.reach > 1 && placement.status == placement_inside;
+    Vec<T, D> t;
+    for (int a = 0; a < D; ++a) t[a] = trim ? grid.cell_coordinate(x, a) : T(0);
+    const T radius2 = grid.stencil_radius * grid.stencil_radius;
+    Vec<int, D> cell = placement.cell;
+    const auto row = [&](T left2) {  // left2: the squared radius left after axes 1..D-1
+      int first, last;
+      axis_range(0, placement.cell[0], trim, t[0], left2, first, last);
+      cell[0] = first;
+      const Index first_cell = grid.linear_index(cell);
+      g(targets.offsets[first_cell], targets.offsets[first_cell + static_cast<Index>(last - first) + 1]);
+    };
+    int y_first, y_last;
+    if constexpr (D == 2) {
+      axis_range(1, placement.cell[1], trim, t[1], radius2, y_first, y_last);
+      for (int ky = y_first; ky <= y_last; ++ky) {
+        cell[1] = ky;
+        row(radius2 - gap_squared(trim, ky, t[1]));
+      }
+    } else {
+      int z_first, z_last;
+      axis_range(2, placement.cell[2], trim, t[2], radius2, z_first, z_last);
+      for (int kz = z_first; kz <= z_last; ++kz) {
+        cell[2] = kz;
+        const T left_z = radius2 - gap_squared(trim, kz, t[2]);
+        axis_range(1, placement.cell[1], trim, t[1], left_z, y_first, y_last);
+        for (int ky = y_first; ky <= y_last; ++ky) {
+          cell[1] = ky;
+          row(left_z - gap_squared(trim, ky, t[1]));
+        }
+      }
+    }
+  }
+
+  // The cells along axis a within `reach` of cell c and inside the grid; when trimming, only
+  // those whose cell-unit interval [k, k + 1) comes within sqrt(left2) of t.
+  UNISPH_HOST_DEVICE void axis_range(int a, int c, bool trim, T t, T left2, int& first, int& last) const {
+    const SearchGrid<T, D>& grid = targets.grid;
+    first = c - grid.reach > 0 ? c - grid.reach : 0;
+    last = c + grid.reach < grid.cells[a] ? c + grid.reach : grid.cells[a] - 1;
+    if (trim) {
+      const T half = std::sqrt(left2 > T(0) ? left2 : T(0));
+      const T lo = std::floor(t - half), hi = std::floor(t + half);
+      if (lo > T(first)) first = static_cast<int>(lo);
+      if (hi < T(last)) last = static_cast<int>(hi);
+    }
+  }
+
+  // The squared distance in cell units from t to the cell interval [k, k + 1) (0 without trimming).
+  UNISPH_HOST_DEVICE static T gap_squared(bool trim, int k, T t) {
+    if (!trim) return T(0);
+    const T below = T(k) - t, above = t - T(k + 1);
+    const T gap = below > T(0) ? below : (above > T(0) ? above : T(0));
+    return gap * gap;
   }
 };
 

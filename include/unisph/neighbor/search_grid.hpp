@@ -5,9 +5,11 @@
 // compute with unisph::uncontracted arithmetic, so that all of them decide every pair and
 // every particle alike (see uncontracted_arithmetic.hpp).
 //
-// Cells are cubes of edge cell_size >= cutoff, so that every neighbour of a particle lies in
-// its own cell or one of the 3^D around it. Axis 0 runs fastest in the linear cell index,
-// so the three cells of a row along axis 0 are consecutive.
+// Cells are cubes of edge cell_size >= cutoff / max_reach. Every neighbour of a particle lies
+// within `reach` = ceil(cutoff / cell_size) cells of its own along each axis (1 for the
+// default cell_size = cutoff: the 3^D cells around it). Smaller cells walk fewer candidates
+// when the search skips the cells beyond the cutoff (neighbor_search.hpp). Axis 0 runs
+// fastest in the linear cell index, so the cells of a row along axis 0 are consecutive.
 
 #include <cstdint>
 #include <limits>
@@ -40,6 +42,8 @@ struct SearchGrid {
 
   // Morton keys interleave 21 bits per axis into 63 bits, so no axis may have more cells.
   static constexpr int max_cells_per_axis = 1 << 21;
+  // The smallest cells are cutoff / max_reach (a stencil of (2 * max_reach + 1)^D cells).
+  static constexpr int max_reach = 4;
 
   Box<T, D> box;
   T cutoff;
@@ -47,23 +51,30 @@ struct SearchGrid {
   T cell_size;
   T inverse_cell_size;
   Vec<int, D> cells;  // per axis
+  int reach;          // cells searched on each side: the smallest k with k * cell_size >= cutoff
+  // The cutoff in cell units, padded for the rounding of cell coordinates: a cell farther
+  // than this from a particle's cell coordinate (cell_coordinate) holds none of its neighbours.
+  T stencil_radius;
 
   // The grid covering `box` with cells of `cell_size` (0: the cutoff). Throws unisph::Error
-  // for an empty or non-finite box, a cutoff that is not positive, a cell size below the
-  // cutoff, or more than 2^21 cells along an axis.
+  // for an empty or non-finite box, a cutoff that is not positive, a cell size below
+  // cutoff / max_reach, or more than 2^21 cells along an axis.
   static SearchGrid make(const Box<T, D>& box, T cutoff, T cell_size = T(0)) {
     if (cell_size == T(0)) cell_size = cutoff;
     if (!(cutoff > T(0)) || !(cutoff < std::numeric_limits<T>::infinity()))
       throw Error("SearchGrid: the cutoff is " + std::to_string(cutoff) + "; it must be positive and finite");
-    if (!(cell_size >= cutoff) || !(cell_size < std::numeric_limits<T>::infinity()))
+    if (!(cell_size * T(max_reach) >= cutoff) || !(cell_size < std::numeric_limits<T>::infinity()))
       throw Error("SearchGrid: the cell size " + std::to_string(cell_size) + " is smaller than the cutoff " +
-                  std::to_string(cutoff) + "; neighbours would be missed");
+                  std::to_string(cutoff) + " / " + std::to_string(max_reach) +
+                  "; the search walks at most " + std::to_string(max_reach) + " cells on each side");
     SearchGrid g{};
     g.box = box;
     g.cutoff = cutoff;
     g.cutoff_squared = uncontracted::mul(cutoff, cutoff);
     g.cell_size = cell_size;
     g.inverse_cell_size = T(1) / cell_size;
+    g.reach = 1;
+    while (T(g.reach) * cell_size < cutoff) ++g.reach;
     for (int a = 0; a < D; ++a) {
       if (!(box.lower[a] <= box.upper[a]) || !(box.upper[a] - box.lower[a] < std::numeric_limits<T>::infinity()))
         throw Error("SearchGrid: the box " + to_string(box) + " is empty or not finite along axis " +
@@ -76,6 +87,11 @@ struct SearchGrid {
                     " (Morton keys hold 21 bits per axis); use larger cells or a smaller box");
       g.cells[a] = static_cast<int>(t) + 1;
     }
+    // Cell coordinates below 2^21 carry an absolute rounding error of a few ulps of the
+    // largest; 8 of them plus a relative 1e-4 keep the cell skipping conservative.
+    int most = 1;
+    for (int a = 0; a < D; ++a) most = g.cells[a] > most ? g.cells[a] : most;
+    g.stencil_radius = cutoff * g.inverse_cell_size * T(1.0001) + T(8) * T(most) * std::numeric_limits<T>::epsilon();
     Index total = 1;
     for (int a = 0; a < D; ++a) total *= static_cast<Index>(g.cells[a]);
     if (total >= Index(std::numeric_limits<std::uint32_t>::max()))
@@ -107,6 +123,11 @@ struct SearchGrid {
       p.cell[a] = t < T(0) ? 0 : (t < T(cells[a]) ? static_cast<int>(t) : cells[a] - 1);
     }
     return p;
+  }
+
+  // x along axis a in cell units from the lower face (the arithmetic of place()).
+  UNISPH_HOST_DEVICE T cell_coordinate(const Vec<T, D>& x, int a) const {
+    return uncontracted::mul(uncontracted::sub(x[a], box.lower[a]), inverse_cell_size);
   }
 
   UNISPH_HOST_DEVICE Index linear_index(const Vec<int, D>& c) const {
