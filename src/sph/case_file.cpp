@@ -4,6 +4,7 @@
 #include "unisph/sph/case_file.hpp"
 
 #include <cctype>
+#include <cstdint>
 #include <cmath>
 #include <fstream>
 #include <functional>
@@ -139,9 +140,59 @@ struct Reader {
   }
 };
 
+// toml++ 3.x asserts (assumes, in release builds with clang) that a table header's first
+// non-blank character after '[' starts a key; a header such as "[ (x)]" breaks that promise
+// (found by fuzz/case_fuzzer.cpp). Such a line is refused here before toml++ sees it. A line
+// starting with '[' can otherwise only be an array inside an array, which no case key takes.
+void refuse_headers_without_key(std::string_view text, const std::string& source) {
+  std::size_t line = 1;
+  for (std::size_t at = 0; at < text.size(); ++line) {
+    std::size_t end = text.find('\n', at);
+    if (end == std::string_view::npos) end = text.size();
+    std::size_t k = at;
+    while (k < end && (text[k] == ' ' || text[k] == '\t')) ++k;
+    if (k < end && text[k] == '[') {
+      ++k;
+      if (k < end && text[k] == '[') ++k;
+      while (k < end && (text[k] == ' ' || text[k] == '\t')) ++k;
+      const unsigned char c = k < end ? static_cast<unsigned char>(text[k]) : '\n';
+      const bool key_start = std::isalnum(c) || c == '_' || c == '-' || c == '"' || c == '\'';
+      if (!key_start)
+        throw CaseFileError(source + ":" + std::to_string(line) + ": not valid TOML: a table header must start with a key name");
+    }
+    at = end + 1;
+  }
+}
+
+// toml++ 3.x reaches an unreachable point (undefined behaviour) on some invalid UTF-8 (found by
+// the fuzzer: a 0xE5 lead byte followed by ']'), so the text is checked to be UTF-8 first.
+void refuse_invalid_utf8(std::string_view text, const std::string& source) {
+  std::size_t line = 1;
+  for (std::size_t k = 0; k < text.size();) {
+    const unsigned char c = static_cast<unsigned char>(text[k]);
+    if (c == '\n') ++line;
+    int length = c < 0x80 ? 1 : (c >> 5) == 0x6 ? 2 : (c >> 4) == 0xE ? 3 : (c >> 3) == 0x1E ? 4 : 0;
+    bool valid = length > 0 && k + std::size_t(length) <= text.size();
+    std::uint32_t code = length == 1 ? c : length == 2 ? (c & 0x1Fu) : length == 3 ? (c & 0x0Fu) : (c & 0x07u);
+    for (int b = 1; valid && b < length; ++b) {
+      const unsigned char t = static_cast<unsigned char>(text[k + b]);
+      valid = (t >> 6) == 0x2;
+      code = (code << 6) | (t & 0x3Fu);
+    }
+    if (valid && length > 1) {
+      const std::uint32_t smallest[5] = {0, 0, 0x80, 0x800, 0x10000};
+      valid = code >= smallest[length] && code <= 0x10FFFF && !(code >= 0xD800 && code <= 0xDFFF);
+    }
+    if (!valid) throw CaseFileError(source + ":" + std::to_string(line) + ": not valid TOML: the text is not valid UTF-8");
+    k += std::size_t(length);
+  }
+}
+
 }  // namespace
 
 CaseDescription parse_case(std::string_view text, const std::string& source) {
+  refuse_invalid_utf8(text, source);
+  refuse_headers_without_key(text, source);
   toml::table root;
   try {
     root = toml::parse(text, source);
@@ -206,7 +257,7 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
   c.hydrostatic = state == "hydrostatic";
 
   const toml::table& time = r.table(root, "time", true);
-  r.only_keys(time, "time.", {"end", "output_interval", "sort_every"});
+  r.only_keys(time, "time.", {"end", "output_interval", "sort_every", "neighbor_search"});
   c.end_time = r.positive(time, "time.", "end");
   const double default_interval = c.end_time / 50;
   c.output_interval = r.positive(time, "time.", "output_interval", &default_interval);
@@ -214,6 +265,11 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
   const long long sort_every = r.integer(time, "time.", "sort_every", &one);
   if (sort_every < 1) r.fail(time.get("sort_every"), "time.sort_every", "must be at least 1");
   c.sort_every = int(sort_every);
+  const std::string automatic = "automatic";
+  c.neighbor_search = r.text(time, "time.", "neighbor_search", &automatic);
+  if (c.neighbor_search != "automatic" && c.neighbor_search != "stored" && c.neighbor_search != "direct")
+    r.fail(time.get("neighbor_search"), "time.neighbor_search",
+           "must be \"automatic\", \"stored\" or \"direct\" (it is \"" + c.neighbor_search + "\")");
 
   const toml::table& report = r.table(root, "report", false);
   r.only_keys(report, "report.", {"length", "time", "pressure"});

@@ -36,6 +36,9 @@ struct CaseDescription {
   double end_time = 0;
   double output_interval = 0;
   int sort_every = 1;  // advection steps between particle sorts
+  // Neighbour search of the fluid relations: "automatic" (stored lists on the CPU, direct
+  // search on the GPU, see docs/neighbor_search.md), "stored" or "direct".
+  std::string neighbor_search = "automatic";
   // [report]: reference scales for the dimensionless columns of the observer file
   double length_scale = 1;
   double time_scale = 1;

@@ -42,6 +42,11 @@ struct WeaklyCompressibleSolver<T, D>::State {
     for (int a = 0; a < D; ++a) v *= dx;
     return T(v);
   }
+  static SearchMethod search_method_of(const CaseDescription& c) {
+    if (c.neighbor_search == "stored") return SearchMethod::stored;
+    if (c.neighbor_search == "direct") return SearchMethod::direct;
+    return SearchMethod::automatic;
+  }
   static const CaseDescription& checked(const CaseDescription& c) {
     if (c.dimension != D)
       throw Error("case '" + c.name + "' is " + std::to_string(c.dimension) + "D; this solver is " + std::to_string(D) + "D");
@@ -62,8 +67,8 @@ struct WeaklyCompressibleSolver<T, D>::State {
         wall(wall_body),
         fluid_cells(fluid.position, domain, kernel.cutoff()),
         wall_cells(wall.position, domain, kernel.cutoff()),
-        inner(fluid_cells),
-        contact(fluid.position, wall_cells),
+        inner(fluid_cells, search_method_of(c)),
+        contact(fluid.position, wall_cells, search_method_of(c)),
         fluid_sorter(fluid_body.particles(), fluid.position, fluid_cells.grid(), 1, SortOrder::cell_index),
         wall_sorter(wall_body.particles(), wall.position, wall_cells.grid(), 1, SortOrder::cell_index),
         eos{T(c.density), T(c.sound_speed)},
