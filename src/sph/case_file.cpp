@@ -188,10 +188,56 @@ void refuse_invalid_utf8(std::string_view text, const std::string& source) {
   }
 }
 
+// TOML allows non-ASCII characters only in strings and comments; toml++ 3.x reaches an
+// unreachable point (undefined behaviour) when a valid non-ASCII letter (U+023E, found by the
+// fuzzer) appears where it classifies bare-key characters. So outside strings and comments the
+// text must be ASCII.
+void refuse_non_ascii_outside_strings(std::string_view text, const std::string& source) {
+  enum class State { normal, comment, basic, literal, multiline_basic, multiline_literal } state = State::normal;
+  std::size_t line = 1;
+  for (std::size_t k = 0; k < text.size(); ++k) {
+    const char c = text[k];
+    const auto starts = [&](std::string_view s) { return text.substr(k, s.size()) == s; };
+    if (c == '\n') {
+      ++line;
+      if (state == State::comment || state == State::basic || state == State::literal) state = State::normal;
+      continue;
+    }
+    switch (state) {
+      case State::normal:
+        if (static_cast<unsigned char>(c) >= 0x80)
+          throw CaseFileError(source + ":" + std::to_string(line) +
+                              ": not valid TOML: a character that is not ASCII outside a string or comment");
+        if (c == '#') state = State::comment;
+        else if (starts("\"\"\"")) { state = State::multiline_basic; k += 2; }
+        else if (starts("'''")) { state = State::multiline_literal; k += 2; }
+        else if (c == '"') state = State::basic;
+        else if (c == '\'') state = State::literal;
+        break;
+      case State::comment: break;
+      case State::basic:
+        if (c == '\\') ++k;
+        else if (c == '"') state = State::normal;
+        break;
+      case State::literal:
+        if (c == '\'') state = State::normal;
+        break;
+      case State::multiline_basic:
+        if (c == '\\') ++k;
+        else if (starts("\"\"\"")) { state = State::normal; k += 2; }
+        break;
+      case State::multiline_literal:
+        if (starts("'''")) { state = State::normal; k += 2; }
+        break;
+    }
+  }
+}
+
 }  // namespace
 
 CaseDescription parse_case(std::string_view text, const std::string& source) {
   refuse_invalid_utf8(text, source);
+  refuse_non_ascii_outside_strings(text, source);
   refuse_headers_without_key(text, source);
   toml::table root;
   try {

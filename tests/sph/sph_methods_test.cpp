@@ -135,6 +135,7 @@ TEST(HostSphCaseFile, OneLineErrorsNameFileLineAndKey) {
       {replaced(valid_case, "[physics]", "[ (physics)]"), "case.toml:13: not valid TOML: a table header must start"},
       {replaced(valid_case, "[physics]", "[\n"), "case.toml:13: not valid TOML: a table header must start"},
       {replaced(valid_case, "[physics]", "[tim\xe5]"), "case.toml:13: not valid TOML: the text is not valid UTF-8"},
+      {replaced(valid_case, "gravity = 9.81", "gr\xc8\xbe" "avity = 9.81"), "case.toml:14: not valid TOML: a character that is not ASCII"},
   };
   for (const auto& [text, expected] : cases) {
     const std::string message = error_of(text);
