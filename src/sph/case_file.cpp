@@ -13,6 +13,13 @@
 
 #define TOML_EXCEPTIONS 1
 #define TOML_HEADER_ONLY 1  // Debian ships toml++ as a shared library too; header-only keeps it out of the link of unisph users
+// toml++ 3.x checks its parser's internal state with TOML_ASSERT_ASSUME: an assert in debug
+// builds, an optimiser assumption under clang in release builds. Malformed input can break
+// those expectations before toml++ reaches its own error report (the fuzzer found several), so
+// they are switched off here: the parser then reports the error, as it does in GCC release builds.
+#include <toml++/impl/preprocessor.h>
+#undef TOML_ASSERT_ASSUME
+#define TOML_ASSERT_ASSUME(expr) static_assert(true)
 #include <toml++/toml.h>
 
 namespace unisph::sph {
@@ -190,8 +197,9 @@ void refuse_invalid_utf8(std::string_view text, const std::string& source) {
 
 // TOML allows non-ASCII characters only in strings and comments; toml++ 3.x reaches an
 // unreachable point (undefined behaviour) when a valid non-ASCII letter (U+023E, found by the
-// fuzzer) appears where it classifies bare-key characters. So outside strings and comments the
-// text must be ASCII.
+// fuzzer) appears where it classifies bare-key characters, and when one follows a line-ending
+// backslash in a multi-line string (U+FEDF). So the text must be ASCII outside comments and
+// single-line strings (no case key takes a multi-line string).
 void refuse_non_ascii_outside_strings(std::string_view text, const std::string& source) {
   enum class State { normal, comment, basic, literal, multiline_basic, multiline_literal } state = State::normal;
   std::size_t line = 1;
@@ -223,10 +231,16 @@ void refuse_non_ascii_outside_strings(std::string_view text, const std::string& 
         if (c == '\'') state = State::normal;
         break;
       case State::multiline_basic:
+        if (static_cast<unsigned char>(c) >= 0x80)
+          throw CaseFileError(source + ":" + std::to_string(line) +
+                              ": not valid here: a character that is not ASCII in a multi-line string");
         if (c == '\\') ++k;
         else if (starts("\"\"\"")) { state = State::normal; k += 2; }
         break;
       case State::multiline_literal:
+        if (static_cast<unsigned char>(c) >= 0x80)
+          throw CaseFileError(source + ":" + std::to_string(line) +
+                              ": not valid here: a character that is not ASCII in a multi-line string");
         if (starts("'''")) { state = State::normal; k += 2; }
         break;
     }
