@@ -198,8 +198,8 @@ void refuse_invalid_utf8(std::string_view text, const std::string& source) {
 // TOML allows non-ASCII characters only in strings and comments; toml++ 3.x reaches an
 // unreachable point (undefined behaviour) when a valid non-ASCII letter (U+023E, found by the
 // fuzzer) appears where it classifies bare-key characters, and when one follows a line-ending
-// backslash in a multi-line string (U+FEDF). So the text must be ASCII outside comments and
-// single-line strings (no case key takes a multi-line string).
+// backslash in a multi-line string (U+FEDF), and in a string holding control characters. So the
+// text must be ASCII outside comments (every case value is an ASCII word or number).
 void refuse_non_ascii_outside_strings(std::string_view text, const std::string& source) {
   enum class State { normal, comment, basic, literal, multiline_basic, multiline_literal } state = State::normal;
   std::size_t line = 1;
@@ -224,10 +224,16 @@ void refuse_non_ascii_outside_strings(std::string_view text, const std::string& 
         break;
       case State::comment: break;
       case State::basic:
+        if (static_cast<unsigned char>(c) >= 0x80)
+          throw CaseFileError(source + ":" + std::to_string(line) +
+                              ": not valid here: a character that is not ASCII in a string (case values are ASCII)");
         if (c == '\\') ++k;
         else if (c == '"') state = State::normal;
         break;
       case State::literal:
+        if (static_cast<unsigned char>(c) >= 0x80)
+          throw CaseFileError(source + ":" + std::to_string(line) +
+                              ": not valid here: a character that is not ASCII in a string (case values are ASCII)");
         if (c == '\'') state = State::normal;
         break;
       case State::multiline_basic:
