@@ -52,4 +52,7 @@ scripts/fuzz_stl.sh "${UNISPH_FUZZ_SECONDS:-60}"
 stage "fuzz the polygon reader for ${UNISPH_FUZZ_SECONDS:-60} s"
 UNISPH_FUZZ_TARGET=polygon scripts/fuzz_stl.sh "${UNISPH_FUZZ_SECONDS:-60}"
 
+stage "fuzz the case-file reader for ${UNISPH_FUZZ_SECONDS:-60} s"
+scripts/fuzz_case.sh "${UNISPH_FUZZ_SECONDS:-60}"
+
 stage "done"
