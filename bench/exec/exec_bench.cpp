@@ -7,11 +7,16 @@
 //   DeviceMemcpy    cudaMemcpy device to device of B bytes counted as 2B (read + write)
 //   CubSortPairs    cub::DeviceRadixSort::SortPairs called directly, temporary storage reused
 //   TwoThreadTriad  the triad on two plain std::threads (the CI machine has 2 cores)
+//   ParTriadAgainstTwoThreads  par and the two threads alternately on the same arrays, paired
+//                   per iteration, so that the ratio does not depend on the bandwidth drift of
+//                   a shared machine between two separate benchmarks
 //   Compute         64 dependent fused multiply-adds per item, seq vs par
 // Output: --benchmark_format=json; scripts/exec_bench_report.py turns it into the table in
 // docs/benchmarks.md.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cstdint>
 #include <fstream>
 #include <random>
@@ -180,6 +185,57 @@ void TwoThreadTriad(benchmark::State& state) {
   state.SetLabel("two std::threads precision=" + precision() + " N=" + std::to_string(n));
 }
 
+// Paired measurement: each iteration times the par triad and the two-thread triad back to back
+// (which one goes first alternates), on the same arrays. Reports both bandwidths over the
+// whole run and the median of the per-iteration ratios (par throughput / two-thread throughput).
+void ParTriadAgainstTwoThreads(benchmark::State& state) {
+  const Index n = static_cast<Index>(state.range(0));
+  DiscreteVariable<Real> a("a", n), b("b", n), c("c", n);
+  fill(b, 1), fill(c, 2);
+  const TriadKernel kernel{a.write(par), b.read(par), c.read(par), Real(3)};
+  auto half = [kernel](Index begin, Index end) {
+    for (Index i = begin; i < end; ++i) kernel(i);
+  };
+  auto run_par = [&] { particle_for(par, n, kernel); };
+  auto run_threads = [&] {
+    std::thread first(half, Index(0), n / 2), second(half, n / 2, n);
+    first.join();
+    second.join();
+  };
+  using clock = std::chrono::steady_clock;
+  auto seconds_of = [](auto&& f) {
+    const auto start = clock::now();
+    f();
+    return std::chrono::duration<double>(clock::now() - start).count();
+  };
+  run_par(), run_threads();  // first touch and warm-up
+  double par_total = 0, threads_total = 0;
+  std::vector<double> ratios;
+  bool par_first = true;
+  for (auto _ : state) {
+    double t_par, t_threads;
+    if (par_first) {
+      t_par = seconds_of(run_par);
+      t_threads = seconds_of(run_threads);
+    } else {
+      t_threads = seconds_of(run_threads);
+      t_par = seconds_of(run_par);
+    }
+    par_first = !par_first;
+    par_total += t_par, threads_total += t_threads;
+    ratios.push_back(t_threads / t_par);
+    state.SetIterationTime(t_par);
+  }
+  std::sort(ratios.begin(), ratios.end());
+  const double bytes = double(state.iterations()) * 3.0 * double(n) * sizeof(Real);
+  state.counters["par_GBps"] = bytes / par_total * 1e-9;
+  state.counters["two_threads_GBps"] = bytes / threads_total * 1e-9;
+  state.counters["par_over_two_threads"] = threads_total / par_total;
+  state.counters["median_pair_ratio"] = ratios.empty() ? 0.0 : ratios[ratios.size() / 2];
+  state.SetBytesProcessed(state.iterations() * int64_t(3 * n * sizeof(Real)));
+  state.SetLabel("par vs two std::threads, paired, precision=" + precision() + " N=" + std::to_string(n));
+}
+
 struct ComputeKernel {
   View<const Real> in;
   View<Real> out;
@@ -271,6 +327,7 @@ constexpr int64_t smallest = 100'000, largest = 100'000'000;
 UNISPH_EXEC_BENCHMARKS(SequencedPolicy)
 UNISPH_EXEC_BENCHMARKS(ParallelPolicy)
 BENCHMARK(TwoThreadTriad)->Arg(10'000'000)->UseRealTime();
+BENCHMARK(ParTriadAgainstTwoThreads)->Arg(10'000'000)->UseManualTime()->MinTime(2.0);
 #if UNISPH_HAS_CUDA && defined(__CUDACC__)
 UNISPH_EXEC_BENCHMARKS(ParallelDevicePolicy)
 BENCHMARK(DeviceMemcpy)->RangeMultiplier(10)->Range(smallest, largest)->UseRealTime();
