@@ -52,11 +52,12 @@ class ContactRelation {
       check_lists();
       s.list_offsets = lists_.offsets().read(P::space);
       s.list_neighbors = lists_.neighbors().read(P::space);
+      s.list_pairs = lists_.pairs().read(P::space);
     }
     return s;
   }
   NeighborSearch<T, D> search(KernelContext& context) {
-    NeighborSearch<T, D> s{context.read(sources_), targets_.view(context), false, {}, {}};
+    NeighborSearch<T, D> s{context.read(sources_), targets_.view(context), false, {}, {}, {}};
     const bool stored = context.space() == MemorySpace::device
                             ? method(ParallelDevicePolicy{}) == SearchMethod::stored
                             : method(ParallelPolicy{}) == SearchMethod::stored;
@@ -64,6 +65,7 @@ class ContactRelation {
       check_lists();
       s.list_offsets = context.read(lists_.offsets());
       s.list_neighbors = context.read(lists_.neighbors());
+      s.list_pairs = context.read(lists_.pairs());
     }
     return s;
   }
@@ -73,7 +75,7 @@ class ContactRelation {
   // A direct search whatever the method (what the stored lists are built from).
   template <ExecutionPolicy P>
   NeighborSearch<T, D> direct_search(P policy) {
-    return {sources_.read(policy), targets_.view(policy), false, {}, {}};
+    return {sources_.read(policy), targets_.view(policy), false, {}, {}, {}};
   }
 
  private:

@@ -50,11 +50,12 @@ class InnerRelation {
       check_lists();
       s.list_offsets = lists_.offsets().read(P::space);
       s.list_neighbors = lists_.neighbors().read(P::space);
+      s.list_pairs = lists_.pairs().read(P::space);
     }
     return s;
   }
   NeighborSearch<T, D> search(KernelContext& context) {
-    NeighborSearch<T, D> s{context.read(cells_.positions()), cells_.view(context), true, {}, {}};
+    NeighborSearch<T, D> s{context.read(cells_.positions()), cells_.view(context), true, {}, {}, {}};
     const bool stored = context.space() == MemorySpace::device
                             ? method(ParallelDevicePolicy{}) == SearchMethod::stored
                             : method(ParallelPolicy{}) == SearchMethod::stored;
@@ -62,6 +63,7 @@ class InnerRelation {
       check_lists();
       s.list_offsets = context.read(lists_.offsets());
       s.list_neighbors = context.read(lists_.neighbors());
+      s.list_pairs = context.read(lists_.pairs());
     }
     return s;
   }
@@ -71,7 +73,7 @@ class InnerRelation {
   // A direct search whatever the method (what the stored lists are built from).
   template <ExecutionPolicy P>
   NeighborSearch<T, D> direct_search(P policy) {
-    return {cells_.positions().read(policy), cells_.view(policy), true, {}, {}};
+    return {cells_.positions().read(policy), cells_.view(policy), true, {}, {}, {}};
   }
 
  private:

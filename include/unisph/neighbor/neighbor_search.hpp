@@ -12,9 +12,13 @@
 //                  with cells smaller than the cutoff, those of the (2 reach + 1)^D that
 //                  come within the cutoff) and applies the cutoff test on the fly (nothing
 //                  stored per pair; the device default);
-//   stored lists   walks a CSR list of j built by a direct search at the last update (the
-//                  host default).
-// Both give the same j with the same r_ij (recomputed from the current positions).
+//   stored lists   walks CSR lists of j and of each pair's geometry (NeighborPair), both built
+//                  by a direct search at the last update (the host default): a pass loads no
+//                  neighbour position and computes no distance.
+// Both give the same j. Their geometry differs once the particles moved after the update:
+// a direct search measures r_ij from the current positions, stored lists keep r_ij, |r_ij|^2
+// and |r_ij| of the configuration at the update (what dual time stepping wants: the
+// configuration is that of the advection step, reused by its acoustic steps).
 //
 // Particles i are "sources" (for an inner relation the body's own particles, for a contact
 // relation another body's); the j come from the target cell list. In an inner relation j == i
@@ -26,6 +30,16 @@
 #include "unisph/neighbor/cell_linked_list.hpp"
 #include "unisph/neighbor/neighbor_pair.hpp"
 
+// Host compilers: inline everything a neighbour loop calls, the kernel's lambda included, so
+// the pair's values stay in registers (GCC does not inline a lambda called from both the
+// stored and the direct loop on its own; measured: the dam break's pressure pass then runs
+// as a separate function). nvcc's device pass inlines these anyway.
+#if defined(__GNUC__) && !UNISPH_DEVICE_CODE
+#define UNISPH_NEIGHBOR_LOOP __attribute__((flatten))
+#else
+#define UNISPH_NEIGHBOR_LOOP
+#endif
+
 namespace unisph {
 
 template <class T, int D>
@@ -34,9 +48,11 @@ struct NeighborSearch {
   CellListView<T, D> targets;     // the x_j and their cells
   bool inner;                     // sources are the targets: skip j == i
   // Stored lists (used when list_offsets is not empty): the j of i are
-  // list_neighbors[list_offsets[i] .. list_offsets[i + 1]).
+  // list_neighbors[list_offsets[i] .. list_offsets[i + 1]), with their geometry at the same
+  // places of list_pairs.
   View<const std::uint64_t> list_offsets;
   View<const std::uint32_t> list_neighbors;
+  View<const NeighborPair<T, D>> list_pairs;
 
   UNISPH_HOST_DEVICE bool uses_stored_lists() const { return !list_offsets.empty(); }
 
@@ -48,20 +64,15 @@ struct NeighborSearch {
       for_each_direct_neighbor(i, f);
   }
 
+  // The cached geometry of the last update; no position is read.
   template <class F>
-  UNISPH_HOST_DEVICE void for_each_stored_neighbor(Index i, F&& f) const {
-    const Vec<T, D> xi = sources[i];
+  UNISPH_NEIGHBOR_LOOP UNISPH_HOST_DEVICE void for_each_stored_neighbor(Index i, F&& f) const {
     const std::uint64_t end = list_offsets[i + 1];
-    for (std::uint64_t k = list_offsets[i]; k < end; ++k) {
-      const Index j = list_neighbors[k];
-      NeighborPair<T, D> pair;
-      targets.grid.test_pair(xi, targets.positions[j], pair.r_ij, pair.squared_distance);
-      f(j, static_cast<const NeighborPair<T, D>&>(pair));
-    }
+    for (std::uint64_t k = list_offsets[i]; k < end; ++k) f(Index(list_neighbors[k]), list_pairs[k]);
   }
 
   template <class F>
-  UNISPH_HOST_DEVICE void for_each_direct_neighbor(Index i, F&& f) const {
+  UNISPH_NEIGHBOR_LOOP UNISPH_HOST_DEVICE void for_each_direct_neighbor(Index i, F&& f) const {
     const Vec<T, D> xi = sources[i];
     const bool cell_order = targets.in_cell_order();
     for_each_candidate_range(xi, [&](std::uint32_t begin, std::uint32_t end) {
@@ -79,8 +90,10 @@ struct NeighborSearch {
   UNISPH_HOST_DEVICE void visit(Index i, const Vec<T, D>& xi, Index j, F& f) const {
     if (inner && j == i) return;
     NeighborPair<T, D> pair;
-    if (targets.grid.test_pair(xi, targets.positions[j], pair.r_ij, pair.squared_distance))
+    if (targets.grid.test_pair(xi, targets.positions[j], pair.r_ij, pair.squared_distance)) {
+      pair.complete();
       f(j, static_cast<const NeighborPair<T, D>&>(pair));
+    }
   }
 
   // How many particles a direct search of i looks at (candidate pairs, for benchmarks).
