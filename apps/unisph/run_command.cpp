@@ -15,6 +15,7 @@
 #include "unisph/exec/policy.hpp"
 #include "unisph/io/vtk_xml_writer.hpp"
 #include "unisph/sph/case_file.hpp"
+#include "unisph/sph/solver_checkpoint.hpp"
 #include "unisph/sph/weakly_compressible_solver.hpp"
 
 namespace unisph::app {
@@ -31,7 +32,62 @@ struct RunOptions {
   std::string output;
   int threads = 0;
   bool quiet = false;
+  double checkpoint_every = -1;  // < 0: the case file's time.checkpoint_every
+  std::string restart;           // a checkpoint to continue from
 };
+
+// What `unisph run` itself needs to continue a run's output after a restart; stored in the
+// checkpoint's observer block as text ("key value" lines, numbers with 17 digits).
+struct RunState {
+  double next_output = 0;
+  double next_checkpoint = 0;
+  int snapshot = 0;
+  std::uint64_t observer_rows = 0;
+  std::vector<io::CollectionEntry> collection;
+
+  std::string encode() const {
+    std::ostringstream s;
+    s.precision(17);
+    s << "next_output " << next_output << "\nnext_checkpoint " << next_checkpoint << "\nsnapshot " << snapshot
+      << "\nobserver_rows " << observer_rows << "\n";
+    for (const io::CollectionEntry& e : collection) s << "entry " << e.time << ' ' << e.part << ' ' << e.file << "\n";
+    return s.str();
+  }
+  static RunState decode(const std::string& text, const std::string& source) {
+    RunState r;
+    std::istringstream in(text);
+    std::string key;
+    while (in >> key) {
+      if (key == "next_output") in >> r.next_output;
+      else if (key == "next_checkpoint") in >> r.next_checkpoint;
+      else if (key == "snapshot") in >> r.snapshot;
+      else if (key == "observer_rows") in >> r.observer_rows;
+      else if (key == "entry") {
+        io::CollectionEntry e{};
+        in >> e.time >> e.part >> e.file;
+        r.collection.push_back(e);
+      } else {
+        throw io::CheckpointError("checkpoint " + source + ": unknown run-state entry '" + key + "'");
+      }
+      if (!in) throw io::CheckpointError("checkpoint " + source + ": run-state entry '" + key + "' has no valid value");
+    }
+    return r;
+  }
+};
+
+// On a restart into a folder that holds the run's observers.csv: keep its header and the rows
+// written up to the checkpoint (a crashed run may have written more), then append.
+void keep_observer_rows(const fs::path& file, std::uint64_t rows) {
+  std::ifstream in(file);
+  std::string line, kept;
+  std::uint64_t data = 0;
+  while (std::getline(in, line)) {
+    const bool header = line.rfind("#", 0) == 0 || line.rfind("time,", 0) == 0;
+    if (!header && data++ >= rows) break;
+    kept += line + "\n";
+  }
+  io::write_file_atomically(file, kept);
+}
 
 template <class S, int D, class Source>
 std::vector<S> as_points(const std::vector<Source>& x) {
@@ -48,15 +104,19 @@ io::PointArray vector_array(const std::string& name, const std::vector<Source>& 
 
 class Progress {
  public:
-  explicit Progress(bool quiet) : quiet_(quiet), tty_(isatty(fileno(stderr))) {}
+  // A restarted run starts at (start_time, start_steps); rates count from there.
+  Progress(bool quiet, double start_time, std::uint64_t start_steps)
+      : quiet_(quiet), tty_(isatty(fileno(stderr))), start_time_(start_time), start_steps_(start_steps) {}
   template <class Solver>
   void show(Solver& solver, double end_time, double elapsed, bool last) {
     if (quiet_) return;
     if (!last && elapsed - shown_ < (tty_ ? 0.5 : 10.0)) return;
     shown_ = elapsed;
     const double fraction = std::min(1.0, solver.time() / end_time);
-    const double rate = elapsed > 0 ? double(solver.acoustic_steps()) * double(solver.fluid_count()) / elapsed : 0;
-    const double left = fraction > 0 ? elapsed * (1 - fraction) / fraction : 0;
+    const double rate =
+        elapsed > 0 ? double(solver.acoustic_steps() - start_steps_) * double(solver.fluid_count()) / elapsed : 0;
+    const double done = (solver.time() - start_time_) / end_time;
+    const double left = done > 0 ? elapsed * (1 - fraction) / done : 0;
     std::fprintf(stderr, "%st = %.4g / %.4g (%5.1f%%)  steps %llu advection, %llu acoustic  %.3g particle-steps/s  %s %.0f s%s",
                  tty_ ? "\r" : "", solver.time(), end_time, 100 * fraction,
                  (unsigned long long)solver.advection_steps(), (unsigned long long)solver.acoustic_steps(), rate,
@@ -67,6 +127,8 @@ class Progress {
  private:
   bool quiet_;
   bool tty_;
+  double start_time_;
+  std::uint64_t start_steps_;
   double shown_ = -1e9;
 };
 
@@ -75,18 +137,35 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
   using Solver = sph::WeaklyCompressibleSolver<T, D>;
   const auto start = std::chrono::steady_clock::now();
   Solver solver(description, kind);
+  RunState run;
+  run.next_output = description.output_interval;
+  run.next_checkpoint = description.checkpoint_every;
+  const bool restarted = !options.restart.empty();
+  if (restarted) {
+    run = RunState::decode(solver.restore_checkpoint(options.restart), options.restart);
+    // The checkpoint interval may have been changed for the restarted run.
+    if (description.checkpoint_every > 0 && !(run.next_checkpoint > solver.time()))
+      run.next_checkpoint = solver.time() + description.checkpoint_every;
+  }
   const fs::path dir = options.output.empty() ? fs::path("out") / description.name : fs::path(options.output);
   fs::create_directories(dir);
+  const fs::path checkpoint_file = dir / "checkpoint.bin";
 
-  std::ofstream observers(dir / "observers.csv");
+  const bool continue_observers = restarted && fs::exists(dir / "observers.csv");
+  if (continue_observers) keep_observer_rows(dir / "observers.csv", run.observer_rows);
+  std::ofstream observers(dir / "observers.csv", continue_observers ? std::ios::app : std::ios::trunc);
   observers.precision(10);
-  observers << "# case " << description.name << " (" << description.source << "); scales: length "
-            << description.length_scale << ", time " << description.time_scale << ", pressure "
-            << description.pressure_scale << "\n";
-  observers << "time,time_star,front,front_star,kinetic_energy,potential_energy,mass";
-  for (const auto& p : description.probes) observers << ",p_" << p.name << ",p_star_" << p.name;
-  observers << "\n";
+  if (!continue_observers) {
+    observers << "# case " << description.name << " (" << description.source << "); scales: length "
+              << description.length_scale << ", time " << description.time_scale << ", pressure "
+              << description.pressure_scale << (restarted ? "; restarted from " + options.restart : std::string())
+              << "\n";
+    observers << "time,time_star,front,front_star,kinetic_energy,potential_energy,mass";
+    for (const auto& p : description.probes) observers << ",p_" << p.name << ",p_star_" << p.name;
+    observers << "\n";
+  }
   auto record = [&] {
+    ++run.observer_rows;
     const sph::ObserverSample s = solver.observe();
     observers << s.time << ',' << s.time / description.time_scale << ',' << s.front << ','
               << s.front / description.length_scale << ',' << s.kinetic_energy << ',' << s.potential_energy << ','
@@ -95,11 +174,9 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
     observers << '\n';
   };
 
-  std::vector<io::CollectionEntry> collection;
-  int snapshot = 0;
   auto write_snapshot = [&] {
     char suffix[32];
-    std::snprintf(suffix, sizeof suffix, "_%06d.vtp", snapshot++);
+    std::snprintf(suffix, sizeof suffix, "_%06d.vtp", run.snapshot++);
     auto& fluid = solver.fluid_body().particles();
     std::vector<io::PointArray> arrays;
     arrays.push_back(io::PointArray::from("ParticleId", 1, fluid.ids().to_vector()));
@@ -113,27 +190,39 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
     wall_arrays.push_back(vector_array<T, D>("Normal", wall.template variable<Vec<T, D>>("Normal").to_vector()));
     const std::string wall_file = solver.wall_body().name() + suffix;
     io::write_vtp(dir / wall_file, as_points<T, D>(solver.wall_body().positions().to_vector()), wall_arrays);
-    collection.push_back({solver.time(), 0, fluid_file});
-    collection.push_back({solver.time(), 1, wall_file});
-    io::write_pvd(dir / (description.name + ".pvd"), collection);
+    run.collection.push_back({solver.time(), 0, fluid_file});
+    run.collection.push_back({solver.time(), 1, wall_file});
+    io::write_pvd(dir / (description.name + ".pvd"), run.collection);
+  };
+  // Taken after the advection step that reaches the checkpoint time (not by shortening a
+  // step), so a run with checkpoints takes the same steps as one without.
+  int checkpoints = 0;
+  auto checkpoint_if_due = [&] {
+    if (description.checkpoint_every <= 0 || solver.time() < run.next_checkpoint * (1 - 1e-12)) return;
+    while (run.next_checkpoint <= solver.time() * (1 + 1e-12)) run.next_checkpoint += description.checkpoint_every;
+    solver.write_checkpoint(checkpoint_file, run.encode());
+    ++checkpoints;
   };
 
   const double end_time = description.end_time;
-  Progress progress(options.quiet);
-  record();
-  write_snapshot();
-  double next_output = description.output_interval;
+  if (!restarted) {
+    record();
+    write_snapshot();
+  }
+  const std::uint64_t first_acoustic_step = solver.acoustic_steps();
+  Progress progress(options.quiet, solver.time(), first_acoustic_step);
   const auto loop_start = std::chrono::steady_clock::now();
   std::string failure;
   try {
     while (solver.time() < end_time * (1 - 1e-12)) {
-      const double until = std::min(next_output, end_time);
+      const double until = std::min(run.next_output, end_time);
       solver.advance(until);
       record();
       if (solver.time() >= until * (1 - 1e-12)) {
         write_snapshot();
-        next_output += description.output_interval;
+        run.next_output += description.output_interval;
       }
+      checkpoint_if_due();
       progress.show(solver, end_time,
                     std::chrono::duration<double>(std::chrono::steady_clock::now() - loop_start).count(), false);
     }
@@ -153,10 +242,18 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
       << "\nfluid particles: " << solver.fluid_count() << "\nwall particles: " << solver.wall_count()
       << "\nsimulated time: " << solver.time() << " of " << end_time
       << "\nadvection steps: " << solver.advection_steps() << "\nacoustic steps: " << solver.acoustic_steps()
-      << "\nsnapshots: " << snapshot << "\nwall time (time loop, output included): " << loop_seconds << " s"
+      << "\nsnapshots: " << run.snapshot << "\ncheckpoints written: " << checkpoints
+      << (checkpoints ? " (" + checkpoint_file.string() + ")" : std::string())
+      << (restarted ? "\nrestarted from: " + options.restart + " (acoustic steps before it: " +
+                          std::to_string(first_acoustic_step) + ")"
+                    : std::string())
+      << "\nwall time (time loop, output included): " << loop_seconds << " s"
       << "\nwall time (total): " << total_seconds << " s"
       << "\nfluid-particle acoustic steps per second: "
-      << (loop_seconds > 0 ? double(solver.acoustic_steps()) * double(solver.fluid_count()) / loop_seconds : 0) << "\n";
+      << (loop_seconds > 0
+              ? double(solver.acoustic_steps() - first_acoustic_step) * double(solver.fluid_count()) / loop_seconds
+              : 0)
+      << "\n";
   if (!failure.empty()) log << "FAILED: " << failure << "\n";
   std::ofstream(dir / "run.log") << log.str();
   if (!options.quiet) std::fputs(log.str().c_str(), stdout);
@@ -173,7 +270,8 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
 void add_run_command(CLI::App& app) {
   CLI::App* command = app.add_subcommand("run", "run a case file (TOML) with the weakly compressible SPH solver");
   static RunOptions options;
-  command->add_option("case", options.case_file, "the case file, e.g. cases/dambreak_2d.toml")->required();
+  command->add_option("case", options.case_file,
+                      "the case file, e.g. cases/dambreak_2d.toml (with --restart: optional, the checkpoint holds the case)");
   command->add_option("--policy", options.policy,
                       "where kernels run: seq, par or device (default: the device where one is present, else par)")
       ->check(CLI::IsMember({"seq", "par", "device"}));
@@ -187,8 +285,39 @@ void add_run_command(CLI::App& app) {
   command->add_option("--threads", options.threads, "CPU threads for the par policy (0: all)")
       ->check(CLI::NonNegativeNumber);
   command->add_flag("--quiet", options.quiet, "no progress display and no summary on the terminal");
-  command->callback([] {
-    sph::CaseDescription description = sph::read_case_file(options.case_file);
+  command->add_option("--checkpoint-every", options.checkpoint_every,
+                      "simulated time between checkpoints, written to OUTPUT/checkpoint.bin (overrides "
+                      "time.checkpoint_every; 0: none)")
+      ->check(CLI::NonNegativeNumber);
+  command->add_option("--restart", options.restart,
+                      "continue from a checkpoint file (same case physics, precision and dimension; any policy)");
+  command->callback([command] {
+    if (options.case_file.empty() && options.restart.empty())
+      throw CLI::RequiredError("a case file (or --restart CHECKPOINT)");
+    std::string precision = options.precision;
+    sph::CaseDescription description;
+    if (!options.restart.empty()) {
+      const sph::CheckpointSummary summary = sph::read_checkpoint_summary(options.restart);
+      if (command->count("--precision") && precision != summary.precision)
+        throw io::CheckpointError("checkpoint " + options.restart + ": holds a " + summary.precision +
+                                  " run; --precision " + precision + " cannot continue it");
+      if (options.dx > 0 && options.dx != summary.description.dx)
+        throw io::CheckpointError("checkpoint " + options.restart + ": holds a run at dx = " +
+                                  std::to_string(summary.description.dx) + "; --dx cannot change it");
+      if (!options.case_file.empty()) {
+        const sph::CaseDescription file = sph::read_case_file(options.case_file);
+        if (const std::string d = sph::physics_difference(file, summary.description); !d.empty() &&
+            d.rfind("geometry.dx", 0) != 0)
+          throw io::CheckpointError("checkpoint " + options.restart + ": was written for another case than " +
+                                    options.case_file + ": " + d);
+      }
+      precision = summary.precision;
+      description = summary.description;
+      options.dx = 0;
+    } else {
+      description = sph::read_case_file(options.case_file);
+    }
+    if (options.checkpoint_every >= 0) description.checkpoint_every = options.checkpoint_every;
     if (options.dx > 0) {
       description.dx = options.dx;
       for (int a = 0; a < description.dimension; ++a)
@@ -207,7 +336,7 @@ void add_run_command(CLI::App& app) {
     else if (policy_available(PolicyKind::device))
       kind = PolicyKind::device;
     require_policy(kind);
-    const bool single = options.precision == "float";
+    const bool single = precision == "float";
     int status = 0;
     if (description.dimension == 2)
       status = single ? run_case<float, 2>(description, kind, options) : run_case<double, 2>(description, kind, options);

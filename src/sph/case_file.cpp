@@ -323,7 +323,7 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
   c.hydrostatic = state == "hydrostatic";
 
   const toml::table& time = r.table(root, "time", true);
-  r.only_keys(time, "time.", {"end", "output_interval", "sort_every", "neighbor_search"});
+  r.only_keys(time, "time.", {"end", "output_interval", "sort_every", "neighbor_search", "checkpoint_every"});
   c.end_time = r.positive(time, "time.", "end");
   const double default_interval = c.end_time / 50;
   c.output_interval = r.positive(time, "time.", "output_interval", &default_interval);
@@ -331,6 +331,7 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
   const long long sort_every = r.integer(time, "time.", "sort_every", &one);
   if (sort_every < 1) r.fail(time.get("sort_every"), "time.sort_every", "must be at least 1");
   c.sort_every = int(sort_every);
+  c.checkpoint_every = r.non_negative(time, "time.", "checkpoint_every", 0.0);
   const std::string automatic = "automatic";
   c.neighbor_search = r.text(time, "time.", "neighbor_search", &automatic);
   if (c.neighbor_search != "automatic" && c.neighbor_search != "stored" && c.neighbor_search != "direct")

@@ -36,6 +36,7 @@ struct CaseDescription {
   double end_time = 0;
   double output_interval = 0;
   int sort_every = 1;  // advection steps between particle sorts
+  double checkpoint_every = 0;  // simulated time between checkpoints of `unisph run` (0: none)
   // Neighbour search of the fluid relations: "automatic" (stored lists on the CPU, direct
   // search on the GPU, see docs/neighbor_search.md), "stored" or "direct".
   std::string neighbor_search = "automatic";

@@ -12,6 +12,7 @@
 // four combinations are compiled once in the library (src/sph/). The policy is chosen at
 // run time. Every member that launches kernels dispatches on it.
 #include <cstdint>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
@@ -36,6 +37,13 @@ struct ObserverSample {
   double potential_energy = 0;  // sum -m g.x
   double mass = 0;
   std::vector<double> probe_pressure;
+};
+
+// Pairs the fluid's neighbour searches look at (candidates: the particles in the cells walked)
+// and find within the cutoff, fluid-fluid and fluid-wall together; for benchmarks.
+struct PairCounts {
+  std::uint64_t candidate_pairs = 0;
+  std::uint64_t neighbor_pairs = 0;
 };
 
 template <class T, int D>
@@ -64,6 +72,22 @@ class WeaklyCompressibleSolver {
 
   Body<T, D>& fluid_body();
   Body<T, D>& wall_body();
+
+  // Checkpoints (format: unisph/sph/solver_checkpoint.hpp). Taken between advection steps:
+  // every sortable variable of fluid and wall (ids included), the time, the step counters, the
+  // case, precision and dimension. `run_state` is the caller's own state (output counters...),
+  // stored as an opaque block. Written to a temporary file, then renamed.
+  void write_checkpoint(const std::filesystem::path& path, const std::string& run_state = {});
+  // Continues from a checkpoint of the same case (its physics), precision and dimension; the
+  // policy may differ. Returns the caller's run_state. Throws io::CheckpointError naming the
+  // file and what is wrong. On `seq` (and `par`) the run then continues bit for bit.
+  std::string restore_checkpoint(const std::filesystem::path& path);
+
+  // For benchmarks: neighbour pairs of the current state, and one more pass of the momentum
+  // (pressure-relaxation) kernel alone, waited for. The pass writes only the acceleration,
+  // which the next acoustic step recomputes before using it.
+  PairCounts count_pairs();
+  void pressure_relaxation_pass();
 
  private:
   struct State;

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "unisph/exec/algorithms.hpp"
+#include "unisph/io/checkpoint_file.hpp"
 #include "unisph/neighbor/cell_linked_list.hpp"
 #include "unisph/neighbor/contact_relation.hpp"
 #include "unisph/neighbor/inner_relation.hpp"
@@ -13,12 +15,31 @@
 #include "unisph/sph/density_summation.hpp"
 #include "unisph/sph/observers.hpp"
 #include "unisph/sph/pressure_relaxation.hpp"
+#include "unisph/sph/solver_checkpoint.hpp"
 #include "unisph/sph/prior_acceleration.hpp"
 #include "unisph/sph/tank_particles.hpp"
 #include "unisph/sph/time_step.hpp"
 #include "unisph/sph/weakly_compressible_solver.hpp"
 
 namespace unisph::sph {
+
+namespace solver_detail {
+// Pair counts for benchmarks (named functors: device code cannot take host lambdas).
+template <class T, int D>
+struct CountCandidates {
+  NeighborSearch<T, D> search;
+  UNISPH_HOST_DEVICE std::uint64_t operator()(Index i) const { return search.candidate_count(i); }
+};
+template <class T, int D>
+struct CountNeighbors {
+  NeighborSearch<T, D> search;
+  UNISPH_HOST_DEVICE std::uint64_t operator()(Index i) const {
+    std::uint64_t n = 0;
+    search.for_each_direct_neighbor(i, [&](Index, const NeighborPair<T, D>&) { ++n; });
+    return n;
+  }
+};
+}  // namespace solver_detail
 
 template <class T, int D>
 struct WeaklyCompressibleSolver<T, D>::State {
@@ -152,13 +173,15 @@ struct WeaklyCompressibleSolver<T, D>::State {
     View<const T> pr = fluid.pressure.read(MemorySpace::host);
     View<const std::uint64_t> id = fluid_body.particles().ids().read(MemorySpace::host);
     for (Index i = 0; i < x.size(); ++i) {
+      // In the order an acoustic step computes them (density -> pressure -> velocity ->
+      // position), so the variable named is the first that went wrong in this particle.
       const char* variable = nullptr;
-      for (int a = 0; a < D && !variable; ++a) {
+      if (!std::isfinite(double(rho[i]))) variable = "Density (not finite)";
+      else if (!std::isfinite(double(pr[i]))) variable = "Pressure (not finite)";
+      for (int a = 0; a < D && !variable; ++a)
+        if (!std::isfinite(double(v[i][a]))) variable = "Velocity (not finite)";
+      for (int a = 0; a < D && !variable; ++a)
         if (!std::isfinite(double(x[i][a]))) variable = "Position (not finite)";
-        else if (!std::isfinite(double(v[i][a]))) variable = "Velocity (not finite)";
-      }
-      if (!variable && !std::isfinite(double(rho[i]))) variable = "Density (not finite)";
-      if (!variable && !std::isfinite(double(pr[i]))) variable = "Pressure (not finite)";
       if (!variable && !domain.contains(x[i])) variable = "Position (outside the domain)";
       if (variable) {
         s << "variable '" << variable << "' of fluid particle id " << id[i] << " (index " << i << "), at (";
@@ -187,6 +210,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
       while (advection_dt - relaxed > 1e-12 * advection_dt) {
         double dt = criteria.acoustic_step(speed);
         if (dt >= advection_dt - relaxed) dt = advection_dt - relaxed;
+        last_acoustic_dt = dt;
         pressure_start.exec(p, Real(dt));
         pressure_relaxation.exec(p, Real(dt));
         velocity_update.exec(p, Real(dt));
@@ -201,6 +225,147 @@ struct WeaklyCompressibleSolver<T, D>::State {
       ++advection_steps;
       if (advection_steps % std::uint64_t(description.sort_every) == 0) fluid_sorter.sort(p);
       rebuild(p);
+    });
+  }
+
+  static constexpr const char* precision_name = sizeof(T) == 4 ? "float" : "double";
+
+  void write_checkpoint(const std::filesystem::path& path, const std::string& run_state) {
+    io::CheckpointWriter out(solver_checkpoint_version);
+    out.section("run");
+    out.u32(D);
+    out.u32(sizeof(T));
+    out.string(precision_name);
+    write_case(out, description);
+    out.section("time");
+    out.f64(time);
+    out.u64(advection_steps);
+    out.u64(acoustic_steps);
+    out.u32(0);  // phase: between advection steps (solver_checkpoint.hpp)
+    write_body(out, fluid_body);
+    write_body(out, wall_body);
+    out.section("observers");
+    out.string(run_state);
+    out.commit(path);
+  }
+
+  static void write_body(io::CheckpointWriter& out, Body<T, D>& body) {
+    ParticleSet& set = body.particles();
+    out.section("body");
+    out.string(body.name());
+    out.u64(set.owned_count());
+    out.u64(set.first_id());
+    out.u64(set.variables().sortable_names().size());
+    set.variables().for_each([&](VariableRegistry::Entry& e) {
+      if (!e.flags.sortable) return;
+      VariableBase& v = *e.variable;
+      out.string(v.name());
+      out.string(e.type_name);
+      out.u64(v.element_size());
+      out.block(v.prepare(MemorySpace::host, Access::read), set.owned_count() * v.element_size());
+    });
+  }
+
+  // The contents of one body, read and checked in full before any variable is overwritten.
+  struct StagedBody {
+    std::vector<std::pair<VariableBase*, std::string>> variables;
+  };
+  static StagedBody read_body(io::CheckpointReader& in, Body<T, D>& body) {
+    ParticleSet& set = body.particles();
+    in.section("body");
+    const std::string name = in.string();
+    if (name != body.name()) in.fail("holds body '" + name + "' where '" + body.name() + "' was expected");
+    const std::uint64_t owned = in.u64();
+    if (owned != set.owned_count())
+      in.fail("holds " + std::to_string(owned) + " particles of '" + name + "'; this case has " +
+              std::to_string(set.owned_count()));
+    if (in.u64() != set.first_id()) in.fail("holds other particle ids for '" + name + "'");
+    const std::uint64_t count = in.u64();
+    if (count != set.variables().sortable_names().size())
+      in.fail("holds " + std::to_string(count) + " variables of '" + name + "'; this solver has " +
+              std::to_string(set.variables().sortable_names().size()));
+    StagedBody staged;
+    for (std::uint64_t k = 0; k < count; ++k) {
+      const std::string variable = in.string();
+      const std::string type = in.string();
+      const std::uint64_t element = in.u64();
+      VariableRegistry::Entry* entry = nullptr;
+      set.variables().for_each([&](VariableRegistry::Entry& e) {
+        if (e.flags.sortable && e.variable->name() == variable) entry = &e;
+      });
+      if (!entry) in.fail("holds variable '" + variable + "' of '" + name + "', which this solver does not have");
+      if (type != entry->type_name || element != entry->variable->element_size())
+        in.fail("holds '" + name + "." + variable + "' as " + type + "; this solver has " + entry->type_name);
+      std::string bytes(owned * element, '\0');
+      in.block(bytes.data(), bytes.size(), "'" + name + "." + variable + "'");
+      staged.variables.emplace_back(entry->variable.get(), std::move(bytes));
+    }
+    return staged;
+  }
+  static void commit(Body<T, D>& body, const StagedBody& staged) {
+    for (const auto& [variable, bytes] : staged.variables)
+      if (!bytes.empty()) std::memcpy(variable->prepare(MemorySpace::host, Access::write), bytes.data(), bytes.size());
+    ParticleSet& set = body.particles();
+    View<const std::uint64_t> id = set.ids().read(MemorySpace::host);
+    View<std::uint32_t> index = set.index_of_id().write(MemorySpace::host);
+    for (Index i = 0; i < set.owned_count(); ++i) index[id[i] - set.first_id()] = std::uint32_t(i);
+  }
+
+  std::string restore_checkpoint(const std::filesystem::path& path) {
+    io::CheckpointReader in(path, solver_checkpoint_version);
+    in.section("run");
+    const std::uint32_t dimension = in.u32();
+    const std::uint32_t bytes = in.u32();
+    const std::string precision = in.string();
+    if (dimension != std::uint32_t(D) || bytes != sizeof(T))
+      in.fail("holds a " + std::to_string(dimension) + "D " + precision + " run; it cannot continue as a " +
+              std::to_string(D) + "D " + precision_name + " run");
+    const CaseDescription saved = read_case(in);
+    if (const std::string difference = physics_difference(description, saved); !difference.empty())
+      in.fail("was written for another case ('" + saved.name + "'): " + difference);
+    in.section("time");
+    const double saved_time = in.f64();
+    const std::uint64_t saved_advection = in.u64();
+    const std::uint64_t saved_acoustic = in.u64();
+    if (const std::uint32_t phase = in.u32(); phase != 0)
+      in.fail("was taken in phase " + std::to_string(phase) + " of an advection step; this solver knows phase 0");
+    const StagedBody staged_fluid = read_body(in, fluid_body);
+    const StagedBody staged_wall = read_body(in, wall_body);
+    in.section("observers");
+    std::string run_state = in.string();
+    if (!in.at_end()) in.fail("has unread bytes after its last section");
+
+    commit(fluid_body, staged_fluid);
+    commit(wall_body, staged_wall);
+    time = saved_time;
+    advection_steps = saved_advection;
+    acoustic_steps = saved_acoustic;
+    last_acoustic_dt = 0;
+    // As at the end of an advection step: neighbour structures from the restored order.
+    visit_policy(policy, [&](auto p) {
+      wall_cells.build(p);
+      rebuild(p);
+    });
+    return run_state;
+  }
+
+  PairCounts count_pairs() {
+    PairCounts c;
+    visit_policy(policy, [&](auto p) {
+      const Index n = fluid.size();
+      for (const NeighborSearch<T, D>& s : {inner.direct_search(p), contact.direct_search(p)}) {
+        c.candidate_pairs += particle_reduce(p, n, Sum<std::uint64_t>{}, solver_detail::CountCandidates<T, D>{s});
+        c.neighbor_pairs += particle_reduce(p, n, Sum<std::uint64_t>{}, solver_detail::CountNeighbors<T, D>{s});
+      }
+    });
+    return c;
+  }
+
+  void pressure_relaxation_pass() {
+    const double dt = last_acoustic_dt > 0 ? last_acoustic_dt : criteria.acoustic_step(0);
+    visit_policy(policy, [&](auto p) {
+      pressure_relaxation.exec(p, Real(dt));
+      fence(p);
     });
   }
 
@@ -252,6 +417,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
   double time = 0;
   std::uint64_t advection_steps = 0;
   std::uint64_t acoustic_steps = 0;
+  double last_acoustic_dt = 0;  // for pressure_relaxation_pass()
 };
 
 template <class T, int D>
@@ -283,5 +449,17 @@ template <class T, int D>
 Body<T, D>& WeaklyCompressibleSolver<T, D>::fluid_body() { return state_->fluid_body; }
 template <class T, int D>
 Body<T, D>& WeaklyCompressibleSolver<T, D>::wall_body() { return state_->wall_body; }
+template <class T, int D>
+void WeaklyCompressibleSolver<T, D>::write_checkpoint(const std::filesystem::path& path, const std::string& run_state) {
+  state_->write_checkpoint(path, run_state);
+}
+template <class T, int D>
+std::string WeaklyCompressibleSolver<T, D>::restore_checkpoint(const std::filesystem::path& path) {
+  return state_->restore_checkpoint(path);
+}
+template <class T, int D>
+PairCounts WeaklyCompressibleSolver<T, D>::count_pairs() { return state_->count_pairs(); }
+template <class T, int D>
+void WeaklyCompressibleSolver<T, D>::pressure_relaxation_pass() { state_->pressure_relaxation_pass(); }
 
 }  // namespace unisph::sph

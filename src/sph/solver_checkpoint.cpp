@@ -1,0 +1,136 @@
+// Writing and reading the case and the summary of a solver checkpoint (the particle data are
+// written by the solver itself, weakly_compressible_solver_impl.hpp).
+#include "unisph/sph/solver_checkpoint.hpp"
+
+#include <sstream>
+
+namespace unisph::sph {
+
+void write_case(io::CheckpointWriter& out, const CaseDescription& c) {
+  out.section("case");
+  out.string(c.name);
+  out.string(c.source);
+  out.u32(std::uint32_t(c.dimension));
+  out.f64(c.dx);
+  out.f64s(c.tank);
+  out.f64s(c.column);
+  out.f64(c.density);
+  out.f64(c.sound_speed);
+  out.f64(c.reference_velocity);
+  out.f64(c.viscosity);
+  out.u32(c.continuity_dissipation ? 1 : 0);
+  out.f64(c.gravity);
+  out.u32(c.hydrostatic ? 1 : 0);
+  out.f64(c.end_time);
+  out.f64(c.output_interval);
+  out.u32(std::uint32_t(c.sort_every));
+  out.f64(c.checkpoint_every);
+  out.string(c.neighbor_search);
+  out.f64(c.length_scale);
+  out.f64(c.time_scale);
+  out.f64(c.pressure_scale);
+  out.u64(c.probes.size());
+  for (const ProbeDescription& p : c.probes) {
+    out.string(p.name);
+    out.f64s(p.position);
+  }
+}
+
+CaseDescription read_case(io::CheckpointReader& in) {
+  in.section("case");
+  CaseDescription c;
+  c.name = in.string();
+  c.source = in.string();
+  c.dimension = int(in.u32());
+  c.dx = in.f64();
+  c.tank = in.f64s();
+  c.column = in.f64s();
+  c.density = in.f64();
+  c.sound_speed = in.f64();
+  c.reference_velocity = in.f64();
+  c.viscosity = in.f64();
+  c.continuity_dissipation = in.u32() != 0;
+  c.gravity = in.f64();
+  c.hydrostatic = in.u32() != 0;
+  c.end_time = in.f64();
+  c.output_interval = in.f64();
+  c.sort_every = int(in.u32());
+  c.checkpoint_every = in.f64();
+  c.neighbor_search = in.string();
+  c.length_scale = in.f64();
+  c.time_scale = in.f64();
+  c.pressure_scale = in.f64();
+  const std::uint64_t probes = in.u64();
+  if (probes > 100000) in.fail("holds " + std::to_string(probes) + " probes (damaged case section)");
+  for (std::uint64_t k = 0; k < probes; ++k) {
+    ProbeDescription p;
+    p.name = in.string();
+    p.position = in.f64s();
+    c.probes.push_back(p);
+  }
+  if (c.dimension != 2 && c.dimension != 3) in.fail("holds a case of dimension " + std::to_string(c.dimension));
+  if (int(c.tank.size()) != c.dimension || int(c.column.size()) != c.dimension || !(c.dx > 0) || c.sort_every < 1)
+    in.fail("holds a case section that is not a valid case (tank, column, dx or sort interval)");
+  return c;
+}
+
+namespace {
+std::string text(double v) {
+  std::ostringstream s;
+  s.precision(17);
+  s << v;
+  return s.str();
+}
+std::string text(const std::vector<double>& v) {
+  std::string s = "[";
+  for (std::size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + text(v[i]);
+  return s + "]";
+}
+std::string text(bool v) { return v ? "true" : "false"; }
+std::string text(const std::string& v) { return "\"" + v + "\""; }
+std::string text(int v) { return std::to_string(v); }
+}  // namespace
+
+std::string physics_difference(const CaseDescription& a, const CaseDescription& b) {
+  std::string found;
+  auto field = [&](const char* name, const auto& x, const auto& y) {
+    if (found.empty() && !(x == y)) found = std::string(name) + " (" + text(x) + " here, " + text(y) + " in the checkpoint)";
+  };
+  field("dimension", a.dimension, b.dimension);
+  field("geometry.dx", a.dx, b.dx);
+  field("geometry.tank", a.tank, b.tank);
+  field("geometry.column", a.column, b.column);
+  field("fluid.density", a.density, b.density);
+  field("fluid.sound_speed", a.sound_speed, b.sound_speed);
+  field("fluid.reference_velocity", a.reference_velocity, b.reference_velocity);
+  field("fluid.viscosity", a.viscosity, b.viscosity);
+  field("fluid.continuity_dissipation", a.continuity_dissipation, b.continuity_dissipation);
+  field("physics.gravity", a.gravity, b.gravity);
+  field("initial.state is hydrostatic", a.hydrostatic, b.hydrostatic);
+  field("time.sort_every", a.sort_every, b.sort_every);
+  field("time.neighbor_search", a.neighbor_search, b.neighbor_search);
+  field("number of probes", int(a.probes.size()), int(b.probes.size()));
+  for (std::size_t k = 0; k < a.probes.size() && k < b.probes.size(); ++k)
+    field("probe.position", a.probes[k].position, b.probes[k].position);
+  return found;
+}
+
+CheckpointSummary read_checkpoint_summary(const std::filesystem::path& path) {
+  io::CheckpointReader in(path, solver_checkpoint_version);
+  CheckpointSummary s;
+  in.section("run");
+  s.dimension = int(in.u32());
+  const std::uint32_t bytes = in.u32();
+  s.precision = in.string();
+  if ((s.dimension != 2 && s.dimension != 3) || !((bytes == 4 && s.precision == "float") || (bytes == 8 && s.precision == "double")))
+    in.fail("holds an unknown run (dimension " + std::to_string(s.dimension) + ", precision '" + s.precision + "')");
+  s.description = read_case(in);
+  if (s.description.dimension != s.dimension) in.fail("holds a case whose dimension differs from its run's");
+  in.section("time");
+  s.time = in.f64();
+  s.advection_steps = in.u64();
+  s.acoustic_steps = in.u64();
+  return s;
+}
+
+}  // namespace unisph::sph
