@@ -83,13 +83,15 @@ void check_sort(P policy, SortOrder order) {
   inner.set_source_count(n);
   inner.update(policy);
   auto pairs_by_id = [&](InnerRelation<T, D>& rel) {
-    const auto off = rel.stored_lists().offsets().to_vector();
+    const auto count = rel.stored_lists().counts().to_vector();
     const auto nb = rel.stored_lists().neighbors().to_vector();
     const auto id = set.ids().to_vector();
     std::set<std::pair<std::uint64_t, std::uint64_t>> pairs;
     for (Index i = 0; i < n; ++i)
-      for (std::uint64_t k = off[i]; k < off[i + 1]; ++k)
-        pairs.insert({id[i], nb[k] < n ? id[nb[k]] : ~std::uint64_t(0)});  // ghosts have no id
+      for (std::uint64_t k = 0; k < count[i]; ++k) {
+        const std::uint32_t j = nb[rel.stored_lists().slot(i, k)];
+        pairs.insert({id[i], j < n ? id[j] : ~std::uint64_t(0)});  // ghosts have no id
+      }
     return pairs;
   };
   const auto before = pairs_by_id(inner);

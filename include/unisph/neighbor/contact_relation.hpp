@@ -49,23 +49,27 @@ class ContactRelation {
   NeighborSearch<T, D> search(P policy) {
     NeighborSearch<T, D> s = direct_search(policy);
     if (method(policy) == SearchMethod::stored) {
-      check_lists();
-      s.list_offsets = lists_.offsets().read(P::space);
+      check_lists(P::space);
+      s.list_counts = lists_.counts().read(P::space);
       s.list_neighbors = lists_.neighbors().read(P::space);
       s.list_pairs = lists_.pairs().read(P::space);
+      s.list_source_stride = lists_.source_stride(P::space);
+      s.list_slot_stride = lists_.slot_stride(P::space);
     }
     return s;
   }
   NeighborSearch<T, D> search(KernelContext& context) {
-    NeighborSearch<T, D> s{context.read(sources_), targets_.view(context), false, {}, {}, {}};
+    NeighborSearch<T, D> s{context.read(sources_), targets_.view(context), false, {}, {}, {}, 0, 0};
     const bool stored = context.space() == MemorySpace::device
                             ? method(ParallelDevicePolicy{}) == SearchMethod::stored
                             : method(ParallelPolicy{}) == SearchMethod::stored;
     if (stored) {
-      check_lists();
-      s.list_offsets = context.read(lists_.offsets());
+      check_lists(context.space());
+      s.list_counts = context.read(lists_.counts());
       s.list_neighbors = context.read(lists_.neighbors());
       s.list_pairs = context.read(lists_.pairs());
+      s.list_source_stride = lists_.source_stride(context.space());
+      s.list_slot_stride = lists_.slot_stride(context.space());
     }
     return s;
   }
@@ -75,17 +79,21 @@ class ContactRelation {
   // A direct search whatever the method (what the stored lists are built from).
   template <ExecutionPolicy P>
   NeighborSearch<T, D> direct_search(P policy) {
-    return {sources_.read(policy), targets_.view(policy), false, {}, {}, {}};
+    return {sources_.read(policy), targets_.view(policy), false, {}, {}, {}, 0, 0};
   }
 
  private:
   static constexpr Index unset = ~Index(0);
 
-  void check_lists() {
-    if (lists_.offsets().size() != source_count() + 1 || lists_built_from_ != targets_.builds())
+  void check_lists(MemorySpace space) {
+    if (lists_.source_count() != source_count() || lists_built_from_ != targets_.builds())
       throw Error("ContactRelation of '" + sources_.name() + "' with '" + targets_.positions().name() +
                   "': stored neighbour lists are used but update(policy) was not called after the last build of "
                   "the cell list");
+    if (lists_.built_in() != space)
+      throw Error(std::string("ContactRelation of '" + sources_.name() + "'") +
+                  ": stored neighbour lists are laid out for the space they were built in; call update() with a "
+                  "policy of the space whose kernels read them");
   }
 
   DiscreteVariable<Vec<T, D>>& sources_;

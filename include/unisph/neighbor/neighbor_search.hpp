@@ -47,14 +47,15 @@ struct NeighborSearch {
   View<const Vec<T, D>> sources;  // x_i
   CellListView<T, D> targets;     // the x_j and their cells
   bool inner;                     // sources are the targets: skip j == i
-  // Stored lists (used when list_offsets is not empty): the j of i are
-  // list_neighbors[list_offsets[i] .. list_offsets[i + 1]), with their geometry at the same
-  // places of list_pairs.
-  View<const std::uint64_t> list_offsets;
+  // Stored lists (used when list_counts is not empty, see stored_neighbor_lists.hpp): the j of
+  // i and their geometry are in slots k < list_counts[i], at i * list_source_stride +
+  // k * list_slot_stride of list_neighbors and list_pairs.
+  View<const std::uint32_t> list_counts;
   View<const std::uint32_t> list_neighbors;
   View<const NeighborPair<T, D>> list_pairs;
+  std::uint64_t list_source_stride = 0, list_slot_stride = 0;
 
-  UNISPH_HOST_DEVICE bool uses_stored_lists() const { return !list_offsets.empty(); }
+  UNISPH_HOST_DEVICE bool uses_stored_lists() const { return !list_counts.empty(); }
 
   template <class F>
   UNISPH_HOST_DEVICE void for_each_neighbor(Index i, F&& f) const {
@@ -67,8 +68,9 @@ struct NeighborSearch {
   // The cached geometry of the last update; no position is read.
   template <class F>
   UNISPH_NEIGHBOR_LOOP UNISPH_HOST_DEVICE void for_each_stored_neighbor(Index i, F&& f) const {
-    const std::uint64_t end = list_offsets[i + 1];
-    for (std::uint64_t k = list_offsets[i]; k < end; ++k) f(Index(list_neighbors[k]), list_pairs[k]);
+    const std::uint64_t n = list_counts[i];
+    std::uint64_t slot = i * list_source_stride;
+    for (std::uint64_t k = 0; k < n; ++k, slot += list_slot_stride) f(Index(list_neighbors[slot]), list_pairs[slot]);
   }
 
   template <class F>

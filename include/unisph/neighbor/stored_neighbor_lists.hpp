@@ -1,13 +1,23 @@
 #pragma once
-// StoredNeighborLists<T, D>: the neighbours of every source particle as CSR lists (offsets per
-// source, 64-bit) of j (32-bit) and of the pair's geometry (NeighborPair: r_ij, |r_ij|^2,
-// |r_ij|), built with the direct search by count -> exclusive scan -> fill.
+// StoredNeighborLists<T, D>: the neighbours of every source particle i, as a count per source
+// and a fixed number of slots per source (the capacity), each slot holding j (32-bit) and the
+// pair's geometry (NeighborPair: r_ij, |r_ij|^2, |r_ij|).
 //
 // The geometry is cached: a pass over the lists reads it instead of the neighbours' positions
 // (no gather, no subtraction, no square root), and it is that of the configuration at the
 // build — the lists are a snapshot of the particle configuration, to be rebuilt when the
-// particles have moved enough to matter (in SPH: every advection step). Memory per pair:
-// 4 + (D + 2) sizeof(T) bytes (36 in 2D double, 24 in 3D float).
+// particles have moved enough to matter (in SPH: every advection step).
+//
+// Why fixed slots rather than CSR (count -> scan -> fill): the build is then a single direct
+// search that writes each pair once and counts the neighbours, with no second search and no
+// scan; CSR needs the search twice (measured on the 2D dam break, seq: the two searches of the
+// CSR build took 25 % of the run). The capacity is the largest count seen so far (plus an
+// eighth after it grows): a build that finds a source with more neighbours than the capacity
+// grows it and searches again. Memory: capacity x sources x (4 + (D + 2) sizeof(T)) bytes.
+//
+// Slot k of source i lies at i * source_stride + k * slot_stride: source after source on the
+// host (each particle's pairs are contiguous for one thread), slot after slot on the device
+// (the threads of a warp, neighbouring i, read neighbouring addresses).
 
 #include <cstdint>
 
@@ -19,36 +29,42 @@ namespace unisph {
 
 namespace stored_lists_detail {
 
+// Searches the neighbours of i, writes the first `capacity` of them into i's slots and its
+// full count into counts[i] (a count above the capacity tells the build to grow and retry).
 template <class T, int D>
-struct CountNeighbors {
+struct FillSlots {
   NeighborSearch<T, D> search;
-  View<std::uint64_t> counts;
-  UNISPH_HOST_DEVICE void operator()(Index i) const {
-    std::uint64_t n = 0;
-    search.for_each_direct_neighbor(i, [&](Index, const NeighborPair<T, D>&) { ++n; });
-    counts[i] = n;
-  }
-};
-
-template <class T, int D>
-struct FillNeighbors {
-  NeighborSearch<T, D> search;
-  View<const std::uint64_t> offsets;
+  View<std::uint32_t> counts;
   View<std::uint32_t> neighbors;
   View<NeighborPair<T, D>> pairs;
+  std::uint64_t capacity, source_stride, slot_stride;
   UNISPH_HOST_DEVICE void operator()(Index i) const {
-    std::uint64_t k = offsets[i];
+    std::uint64_t n = 0;
+    const std::uint64_t base = i * source_stride;
     search.for_each_direct_neighbor(i, [&](Index j, const NeighborPair<T, D>& pair) {
-      neighbors[k] = static_cast<std::uint32_t>(j);
-      pairs[k] = pair;
-      ++k;
+      if (n < capacity) {
+        const std::uint64_t slot = base + n * slot_stride;
+        neighbors[slot] = static_cast<std::uint32_t>(j);
+        pairs[slot] = pair;
+      }
+      ++n;
     });
+    counts[i] = static_cast<std::uint32_t>(n);
   }
 };
 
-struct ReadTotal {
-  View<const std::uint64_t> offsets;
-  UNISPH_HOST_DEVICE std::uint64_t operator()(Index) const { return offsets[offsets.size() - 1]; }
+struct CountSummary {
+  std::uint64_t total;
+  std::uint64_t largest;
+};
+struct CombineCounts {
+  UNISPH_HOST_DEVICE CountSummary operator()(const CountSummary& a, const CountSummary& b) const {
+    return {a.total + b.total, a.largest < b.largest ? b.largest : a.largest};
+  }
+};
+struct SummariseCounts {
+  View<const std::uint32_t> counts;
+  UNISPH_HOST_DEVICE CountSummary operator()(Index i) const { return {counts[i], counts[i]}; }
 };
 
 }  // namespace stored_lists_detail
@@ -57,43 +73,78 @@ template <class T, int D>
 class StoredNeighborLists {
  public:
   explicit StoredNeighborLists(const std::string& name)
-      : offsets_(name + ".NeighborOffsets"), neighbors_(name + ".Neighbors"), pairs_(name + ".NeighborPairs") {}
+      : counts_(name + ".NeighborCounts"), neighbors_(name + ".Neighbors"), pairs_(name + ".NeighborPairs") {}
 
   // Lists for sources [0, source_count) from a direct search (its lists, if any, are ignored).
   template <ExecutionPolicy P>
   void build(P policy, NeighborSearch<T, D> direct, Index source_count) {
-    direct.list_offsets = {};
+    direct.list_counts = {};
     direct.list_neighbors = {};
     direct.list_pairs = {};
-    offsets_.resize(source_count + 1);
-    View<std::uint64_t> offsets = offsets_.write(policy);
-    particle_for(policy, source_count, stored_lists_detail::CountNeighbors<T, D>{direct, offsets});
-    exclusive_scan(policy, View<const std::uint64_t>(offsets.subview(0, source_count)), offsets);
-    // The total is one number: a one-item reduction reads it without copying the offsets.
-    const std::uint64_t total = particle_reduce(policy, 1, Sum<std::uint64_t>{},
-                                                stored_lists_detail::ReadTotal{offsets});
-    // Only grow: a list that shrinks keeps its allocation (the kernels that view it are then
-    // not rebuilt either), and nothing is copied on a resize.
-    if (neighbors_.size() < static_cast<Index>(total)) {
-      neighbors_.resize(0);
-      neighbors_.resize(static_cast<Index>(total));
-      pairs_.resize(0);
-      pairs_.resize(static_cast<Index>(total));
+    counts_.resize(source_count);
+    space_ = P::space;
+    source_count_ = source_count;
+    for (;;) {
+      const std::uint64_t slots = std::uint64_t(source_count) * capacity_;
+      // Reallocated only when the layout changes (capacity or source count; rare once the
+      // capacity settled): kernels that hold the strides are then rebuilt with the new ones.
+      if (capacity_ != laid_out_capacity_ || source_count != laid_out_sources_) {
+        neighbors_.resize(0);  // nothing to keep: no copy on the resize
+        neighbors_.resize(static_cast<Index>(slots));
+        pairs_.resize(0);
+        pairs_.resize(static_cast<Index>(slots));
+        laid_out_capacity_ = capacity_;
+        laid_out_sources_ = source_count;
+      }
+      const Layout layout = layout_for(P::space, source_count);
+      particle_for(policy, source_count,
+                   stored_lists_detail::FillSlots<T, D>{direct, counts_.write(policy), neighbors_.write(policy),
+                                                        pairs_.write(policy), capacity_, layout.source_stride,
+                                                        layout.slot_stride});
+      const stored_lists_detail::CountSummary summary =
+          particle_reduce(policy, source_count, stored_lists_detail::CountSummary{0, 0},
+                          stored_lists_detail::CombineCounts{},
+                          stored_lists_detail::SummariseCounts{counts_.read(policy)});
+      pair_count_ = static_cast<Index>(summary.total);
+      if (summary.largest <= capacity_) break;
+      capacity_ = summary.largest + summary.largest / 8;  // room to grow a little before the next retry
     }
-    particle_for(policy, source_count,
-                 stored_lists_detail::FillNeighbors<T, D>{direct, offsets, neighbors_.write(policy), pairs_.write(policy)});
-    pair_count_ = static_cast<Index>(total);
   }
 
   Index pair_count() const { return pair_count_; }
-  DiscreteVariable<std::uint64_t>& offsets() { return offsets_; }
+  Index source_count() const { return source_count_; }
+  std::uint64_t capacity() const { return capacity_; }
+  // Where slot k of source i is, for lists read in `space` (the space of the last build).
+  std::uint64_t slot(Index i, std::uint64_t k) const {
+    const Layout layout = layout_for(space_, source_count_);
+    return i * layout.source_stride + k * layout.slot_stride;
+  }
+  std::uint64_t source_stride(MemorySpace space) const { return layout_for(space, source_count_).source_stride; }
+  std::uint64_t slot_stride(MemorySpace space) const { return layout_for(space, source_count_).slot_stride; }
+  // The space whose layout the lists have (they must be read in it; the relations check this).
+  MemorySpace built_in() const { return space_; }
+
+  DiscreteVariable<std::uint32_t>& counts() { return counts_; }
   DiscreteVariable<std::uint32_t>& neighbors() { return neighbors_; }
   DiscreteVariable<NeighborPair<T, D>>& pairs() { return pairs_; }
 
  private:
-  DiscreteVariable<std::uint64_t> offsets_;
+  struct Layout {
+    std::uint64_t source_stride, slot_stride;
+  };
+  Layout layout_for(MemorySpace space, Index source_count) const {
+    if (space == MemorySpace::device) return {1, std::uint64_t(source_count)};
+    return {capacity_, 1};
+  }
+
+  DiscreteVariable<std::uint32_t> counts_;
   DiscreteVariable<std::uint32_t> neighbors_;
   DiscreteVariable<NeighborPair<T, D>> pairs_;
+  std::uint64_t capacity_ = 0;
+  std::uint64_t laid_out_capacity_ = ~std::uint64_t(0);  // the layout the arrays were last allocated for
+  Index laid_out_sources_ = 0;
+  MemorySpace space_ = MemorySpace::host;
+  Index source_count_ = 0;
   Index pair_count_ = 0;
 };
 
