@@ -1,0 +1,240 @@
+#pragma once
+// ParticleRelaxation<D>: a body-fitted particle set made from a level set (Zhu et al. 2021):
+//
+//   MultiResolutionLevelSet<3> level_set(policy, shape, lo, hi, dx);          // spacing = dx
+//   ParticleRelaxation<3> relaxation(policy, level_set, {lo, hi}, SeedRegion::inside, dx);
+//   std::vector<RelaxationRecord> history = relaxation.run(policy, RelaxationSettings{});
+//   relaxation.body().positions() ...                                          // the particles
+//
+// 1. Seeding: the lattice points of spacing dx in the box on the chosen side of the zero level
+//    set (LatticeSeeding), volume dx^D each.
+// 2. Each iteration: sort the particles into cell order, rebuild the cell list, compute the
+//    residual a_i = -2 (Σ_j ∇W_ij V_j + G(x_i)) (ZeroOrderResidual, G the level set's kernel
+//    gradient integral probed at x_i), move every particle by step * a_i and put those that
+//    crossed the surface back onto it (RelaxationStep).
+// 3. Stop after `iterations` or when the mean of |Σ_j ∇W_ij V_j + G| h falls below `tolerance`.
+//
+// The step. a_i is linear in small displacements: a plane wave of wave vector k on a lattice
+// gives a = -M(k) u with M(k) = 2 Σ_j ∇∇W(x_j) (1 - cos k·x_j) V_j. The largest eigenvalue of M
+// over the Brillouin zone, for Wendland C2 with h = 1.3 dx, is 3.24 / dx² in 2D and 3.30 / dx² in
+// 3D (scripts/relaxation_step_bound.py), i.e. λ_max h² = 5.5 and 5.6. The iteration
+// x += β a multiplies each mode by (1 - β λ); it is stable for β λ_max < 2 and damps the
+// stiffest mode fastest at β λ_max = 1, β = 0.18 h². We take β = 0.1 h² (step_coefficient),
+// below that with a margin for the surface term (whose stiffness 2 |W1'(phi)| adds to a
+// particle's own near the wall). Far from equilibrium (the first iterations next to the
+// surface) β a would move particles by a good part of h, more than the linearisation holds
+// for, so the step is capped, as SPHinXsys does (its dt² = 0.0625 h / max|a| with x += a dt² / 2):
+// the particle with the largest residual moves at most `largest_move` × h (default 1/32, the
+// SPHinXsys value). step = min(β, largest_move h / max|a|).
+//
+// Neighbours: direct search on every policy (the lists would be rebuilt every iteration);
+// particles in cell order make it read positions contiguously and in ascending j, so every
+// policy forms the same sums in the same order.
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "unisph/levelset/multi_resolution_level_set.hpp"
+#include "unisph/neighbor/cell_linked_list.hpp"
+#include "unisph/neighbor/inner_relation.hpp"
+#include "unisph/neighbor/particle_sorter.hpp"
+#include "unisph/particles/body.hpp"
+#include "unisph/relaxation/lattice_seeding.hpp"
+#include "unisph/relaxation/relaxation_step.hpp"
+#include "unisph/relaxation/surface_distance.hpp"
+#include "unisph/relaxation/zero_order_residual.hpp"
+
+namespace unisph {
+
+struct RelaxationSettings {
+  int iterations = 1000;
+  Real tolerance = Real(0);           // stop once the mean of |Σ ∇W V + G| h is below (0: never)
+  Real step_coefficient = Real(0.1);  // β / h² in the linear regime (stable below 0.36)
+  Real largest_move = Real(0.03125);  // largest displacement per iteration, in h
+  Real momentum = Real(0.9);          // heavy-ball factor of the previous move (0: plain descent)
+};
+
+// One row of the history: the state before the iteration's move.
+struct RelaxationRecord {
+  int iteration = 0;
+  Real max_error = 0;   // max over particles of |Σ_j ∇W_ij V_j + G(x_i)| h
+  Real mean_error = 0;  // mean of the same
+  Real step = 0;        // the step taken from this state (0 for the final state)
+};
+
+inline constexpr VariableTag<Real> volume_tag{"Volume"};
+
+namespace relaxation_detail {
+struct FillVolume {
+  View<Real> volume;
+  Real value;
+  UNISPH_HOST_DEVICE void operator()(Index i) const { volume[i] = value; }
+};
+}  // namespace relaxation_detail
+
+template <int D>
+class ParticleRelaxation {
+ public:
+  using Position = Vec<Real, D>;
+
+  // region: inside the body, or around it within `box` (which the level set must cover).
+  // The lattice points' side is the level set's sign (LevelSetSide).
+  template <ExecutionPolicy P>
+  ParticleRelaxation(P policy, MultiResolutionLevelSet<D>& level_set, const Box<Real, D>& box, SeedRegion region,
+                     Real dx)
+      : ParticleRelaxation(policy, level_set, box, region, dx,
+                           LevelSetSide<D>{level_set.view(policy), region == SeedRegion::inside}) {}
+
+  // The same with the side of the lattice points decided by `side` (e.g. WindingNumberSide, see
+  // lattice_seeding.hpp), a functor in the policy's memory space.
+  template <ExecutionPolicy P, class Side>
+  ParticleRelaxation(P policy, MultiResolutionLevelSet<D>& level_set, const Box<Real, D>& box, SeedRegion region,
+                     Real dx, const Side& side)
+      : level_set_(level_set),
+        region_(region),
+        box_(box),
+        dx_(dx),
+        kernel_(sph::WendlandC2Kernel<Real, D>::from_spacing(dx)) {
+    const Real finest = level_set.finest().grid().data_spacing;
+    if (std::abs(finest - dx) > Real(1e-6) * dx)
+      throw Error("particle relaxation: the level set's finest spacing " + std::to_string(finest) +
+                  " differs from the particle spacing " + std::to_string(dx) +
+                  "; its kernel integrals use h = 1.3 times that spacing, as the particles do");
+    LatticeSeeding<D, Side> seeding(Lattice<D>::covering(box, dx), side);
+    const Index n = seeding.count(policy);
+    if (n == 0)
+      throw Error("particle relaxation: no lattice point of spacing " + std::to_string(dx) + " lies " +
+                  (region == SeedRegion::inside ? "inside the body" : "outside the body within the box") +
+                  "; take a smaller spacing");
+    body_ = std::make_unique<Body<Real, D>>("Relaxed", box, n);
+    seeding.fill(policy, body_->positions());
+    ParticleSet& set = body_->particles();
+    volume_ = &set.add_variable(volume_tag, sortable_output_variable);
+    residual_ = &set.add_variable<Position>("Residual");
+    velocity_ = &set.add_variable<Position>("RelaxationVelocity", sortable_variable);
+    kernel_sum_ = &set.add_variable<Real>("KernelSum");
+    distance_ = &set.add_variable<Real>("NormalDistance");
+    particle_for(policy, n, relaxation_detail::FillVolume{volume_->write(policy), std::pow(dx, Real(D))});
+    Box<Real, D> search_box = box;
+    for (int k = 0; k < D; ++k) {
+      search_box.lower[k] -= kernel_.cutoff();
+      search_box.upper[k] += kernel_.cutoff();
+    }
+    cells_ = std::make_unique<CellLinkedList<Real, D>>(body_->positions(), search_box, kernel_.cutoff());
+    inner_ = std::make_unique<InnerRelation<Real, D>>(*cells_, SearchMethod::direct);
+    sorter_ = std::make_unique<ParticleSorter<Real, D>>(set, body_->positions(), cells_->grid(), 1,
+                                                        SortOrder::cell_index);
+    residual_method_ = std::make_unique<ZeroOrderResidual<D>>(*inner_, *volume_, *residual_, *kernel_sum_, kernel_);
+    step_ = std::make_unique<RelaxationStep<D>>(body_->positions(), *velocity_, *residual_, RelaxationSettings{}.momentum);
+    norms_ = std::make_unique<ResidualNorms<D>>(*residual_);
+    surface_distance_ = std::make_unique<SurfaceDistance<D>>(body_->positions(), *distance_);
+  }
+
+  Body<Real, D>& body() { return *body_; }
+  Index size() const { return body_->particles().owned_count(); }
+  Real spacing() const { return dx_; }
+  const sph::WendlandC2Kernel<Real, D>& kernel() const { return kernel_; }
+  DiscreteVariable<Position>& positions() { return body_->positions(); }
+  DiscreteVariable<Real>& volumes() { return *volume_; }
+  // Of the last measure(): -2 (Σ ∇W V + G) and Σ W V + S per particle.
+  DiscreteVariable<Position>& residuals() { return *residual_; }
+  DiscreteVariable<Real>& kernel_sums() { return *kernel_sum_; }
+  // Of the last surface_distances(): phi at each particle.
+  DiscreteVariable<Real>& normal_distances() { return *distance_; }
+
+  // Sorts, rebuilds the neighbours and computes the residuals and kernel sums of the current
+  // positions; returns their norms.
+  template <ExecutionPolicy P>
+  RelaxationRecord measure(P policy, int iteration = 0) {
+    use_surface(policy);
+    sorter_->sort(policy);
+    cells_->build(policy);
+    inner_->update(policy);
+    residual_method_->exec(policy);
+    const Vec<Real, 2> norms = norms_->exec(policy);
+    const Real to_error = kernel_.h / Real(2);  // |a| = 2 |g|; the error is |g| h
+    return {iteration, norms[0] * to_error, norms[1] / Real(size()) * to_error, Real(0)};
+  }
+
+  // Moves the particles from the state `measured` describes (the last measure()); returns the
+  // step taken.
+  template <ExecutionPolicy P>
+  Real move(P policy, const RelaxationSettings& settings, const RelaxationRecord& measured) {
+    use_surface(policy);
+    const Real h = kernel_.h;
+    const Real largest = measured.max_error * Real(2) / h;  // max |a|
+    Real step = settings.step_coefficient * h * h;
+    if (largest * step > settings.largest_move * h) step = settings.largest_move * h / largest;
+    if (settings.momentum != step_->momentum()) step_->set_momentum(settings.momentum);
+    step_->exec(policy, step);
+    return step;
+  }
+
+  // measure + move until `iterations` or the tolerance; the history ends with the final state.
+  // progress(record) is called after every iteration (host side; may print).
+  template <ExecutionPolicy P>
+  std::vector<RelaxationRecord> run(P policy, const RelaxationSettings& settings,
+                                    const std::function<void(const RelaxationRecord&)>& progress = {}) {
+    std::vector<RelaxationRecord> history;
+    for (int k = 0; k < settings.iterations; ++k) {
+      RelaxationRecord r = measure(policy, k);
+      if (settings.tolerance > Real(0) && r.mean_error < settings.tolerance) {
+        history.push_back(r);
+        if (progress) progress(r);
+        return history;
+      }
+      r.step = move(policy, settings, r);
+      history.push_back(r);
+      if (progress) progress(r);
+    }
+    history.push_back(measure(policy, settings.iterations));
+    if (progress) progress(history.back());
+    return history;
+  }
+
+  // phi at every particle into normal_distances().
+  template <ExecutionPolicy P>
+  void surface_distances(P policy) {
+    use_surface(policy);
+    surface_distance_->exec(policy);
+  }
+
+ private:
+  // The surface's level-set view lives in one memory space: switch it when the policy does.
+  template <ExecutionPolicy P>
+  void use_surface(P policy) {
+    if (surface_space_ == int(P::space)) return;
+    RelaxationSurface<D> surface{level_set_.view(policy), region_ == SeedRegion::inside, box_,
+                                 HalfSpaceKernelIntegral<D>{kernel_}};
+    residual_method_->set_surface(surface);
+    step_->set_surface(surface);
+    surface_distance_->set_surface(surface);
+    surface_space_ = int(P::space);
+  }
+
+  MultiResolutionLevelSet<D>& level_set_;
+  SeedRegion region_;
+  Box<Real, D> box_;
+  Real dx_;
+  sph::WendlandC2Kernel<Real, D> kernel_;
+  std::unique_ptr<Body<Real, D>> body_;
+  DiscreteVariable<Real>* volume_ = nullptr;
+  DiscreteVariable<Position>* residual_ = nullptr;
+  DiscreteVariable<Position>* velocity_ = nullptr;
+  DiscreteVariable<Real>* kernel_sum_ = nullptr;
+  DiscreteVariable<Real>* distance_ = nullptr;
+  std::unique_ptr<CellLinkedList<Real, D>> cells_;
+  std::unique_ptr<InnerRelation<Real, D>> inner_;
+  std::unique_ptr<ParticleSorter<Real, D>> sorter_;
+  std::unique_ptr<ZeroOrderResidual<D>> residual_method_;
+  std::unique_ptr<RelaxationStep<D>> step_;
+  std::unique_ptr<ResidualNorms<D>> norms_;
+  std::unique_ptr<SurfaceDistance<D>> surface_distance_;
+  int surface_space_ = -1;
+};
+
+}  // namespace unisph

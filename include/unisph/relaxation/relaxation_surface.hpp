@@ -1,0 +1,79 @@
+#pragma once
+// RelaxationSurface<D>: what the particles relax against, for use inside kernels — the part of a
+// particle's kernel support that lies beyond the surface, and the rule that puts particles back.
+//
+// A particle near the surface lacks neighbours on the far side; the level set's kernel
+// integrals stand in for them (Zhu et al. 2021):
+//   missing weight    ∫_{beyond} W(x - y) dy
+//   missing gradient  ∫_{beyond} ∇W(x - y) dy
+// so that Σ_j W_ij V_j + weight ≈ 1 and Σ_j ∇W_ij V_j + gradient ≈ 0 for a uniform set.
+// "Beyond" is phi > 0 for particles inside a body (the level set's own integrals), phi < 0 for
+// particles around it (1 - weight and -gradient, since W integrates to 1 and ∇W to 0).
+//
+// Around a body the particles also fill a box; each face of the box is a wall whose missing
+// part is the half-space behind it, in closed form (HalfSpaceKernelIntegral). Where two faces
+// meet, the quarter-space behind both is counted twice (edges and corners of the box are not
+// corrected).
+//
+// bound(x): a particle that crossed the surface is put back onto it along the normal,
+// x - phi n (phi and n probed at x: exact for a plane, second order in the step for a curved
+// surface); around a body it is also clamped into the box.
+
+#include <type_traits>
+
+#include "unisph/levelset/kernel_integrals.hpp"
+#include "unisph/levelset/multi_resolution_level_set_view.hpp"
+#include "unisph/neighbor/box.hpp"
+
+namespace unisph {
+
+template <int D>
+struct RelaxationSurface {
+  MultiResolutionLevelSetView<D> level_set;
+  bool particles_inside;           // true: a body's particles (phi < 0); false: around the body
+  Box<Real, D> box;                // around a body: the box the particles fill
+  HalfSpaceKernelIntegral<D> wall; // kernel integrals behind a face of the box
+
+  UNISPH_HOST_DEVICE Real missing_weight(const Vec<Real, D>& x) const {
+    const Real w = level_set.probe_kernel_weight(x);
+    if (particles_inside) return w;
+    Real sum = Real(1) - w;
+    for (int k = 0; k < D; ++k) {
+      // signed distance from each face, positive behind it (outside the box)
+      sum += wall.weight(box.lower[k] - x[k]) + wall.weight(x[k] - box.upper[k]);
+    }
+    return sum;
+  }
+
+  UNISPH_HOST_DEVICE Vec<Real, D> missing_gradient(const Vec<Real, D>& x) const {
+    const Vec<Real, D> g = level_set.probe_kernel_gradient(x);
+    if (particles_inside) return g;
+    Vec<Real, D> sum = g * Real(-1);
+    for (int k = 0; k < D; ++k) {
+      // ∫ ∇_x W over the half-space behind a face points from x towards that face
+      sum[k] += wall.marginal(x[k] - box.upper[k]) - wall.marginal(box.lower[k] - x[k]);
+    }
+    return sum;
+  }
+
+  // Signed distance from the surface, negative on the particles' side.
+  UNISPH_HOST_DEVICE Real distance(const Vec<Real, D>& x) const {
+    const Real phi = level_set.probe_phi(x);
+    return particles_inside ? phi : -phi;
+  }
+
+  UNISPH_HOST_DEVICE Vec<Real, D> bound(Vec<Real, D> x) const {
+    const Real phi = level_set.probe_phi(x);
+    if (particles_inside ? phi > Real(0) : phi < Real(0)) x -= level_set.probe_normal(x) * phi;
+    if (!particles_inside)
+      for (int k = 0; k < D; ++k) {
+        x[k] = x[k] < box.lower[k] ? box.lower[k] : x[k];
+        x[k] = x[k] > box.upper[k] ? box.upper[k] : x[k];
+      }
+    return x;
+  }
+};
+static_assert(std::is_trivially_copyable_v<RelaxationSurface<3>>,
+              "a relaxation surface is captured by value into kernels, so it must be trivially copyable.");
+
+}  // namespace unisph
