@@ -3,8 +3,9 @@
 
 Usage: views_bench_report.py views.json [more.json ...]
 Prints one Markdown row per case and policy: the median time of the hand-written loop, of the
-view's iterator loop and of View::for_each, their ratios to the hand loop, and whether all
-checksums of the case agree.
+view's iterator loop, of View::for_each and, where the case has them, of the engine's direct
+neighbour search ("direct") and of a plain per-package loop ("plain"), their ratios to the hand
+loop (and for_each / direct), and whether all checksums of the case agree.
 """
 import json
 import statistics
@@ -31,23 +32,34 @@ def main(paths):
     print(f"host: {context.get('host_name', '?')}, {context.get('num_cpus', '?')} CPUs, "
           f"unisph_host_threads={context.get('unisph_host_threads', '?')}, gpu: {context.get('unisph_gpu', '?')}")
     print()
-    print("| case | policy | reps | hand (ms) | view (ms) | view / hand | for_each (ms) | for_each / hand | checksums equal |")
-    print("|---|---|---|---|---|---|---|---|---|")
+    loops = [l for l in ("view", "for_each", "direct", "plain") if any(k[2] == l for k in times)]
+    head = ["case", "policy", "reps", "hand (ms)"]
+    for loop in loops:
+        head += [f"{loop} (ms)", f"{loop} / hand"]
+    if "direct" in loops:
+        head += ["for_each / direct"]
+    head += ["checksums equal"]
+    print("| " + " | ".join(head) + " |")
+    print("|" + "---|" * len(head))
     for case, policy in sorted({(c, p) for c, p, _ in times}):
         hand = times.get((case, policy, "hand"), [])
         if not hand:
             continue
         mh = statistics.median(hand)
         row = [case, policy, str(len(hand)), f"{mh * 1e3:.3f}"]
-        for loop in ("view", "for_each"):
+        for loop in loops:
             t = times.get((case, policy, loop), [])
             if t:
                 m = statistics.median(t)
                 row += [f"{m * 1e3:.3f}", f"{m / mh:.3f}"]
             else:
                 row += ["", ""]
+        if "direct" in loops:
+            fe, di = times.get((case, policy, "for_each"), []), times.get((case, policy, "direct"), [])
+            row += [f"{statistics.median(fe) / statistics.median(di):.3f}" if fe and di else ""]
         same = "yes" if len(checksums[(case, policy)]) == 1 else f"NO {sorted(checksums[(case, policy)])}"
         print("| " + " | ".join(row + [same]) + " |")
+
 
 if __name__ == "__main__":
     main(sys.argv[1:])

@@ -36,6 +36,7 @@
 // few per cent; docs/views.md).
 
 #include <cstddef>
+#include <cstdint>
 #include <iterator>
 #include <ranges>
 #include <type_traits>
@@ -256,16 +257,16 @@ class View : public std::ranges::view_base {
     std::conditional_t<has_child, ChildIterator, NoChild> child_{};
   };
 
-  View() = default;
+  UNISPH_HOST_DEVICE constexpr View() : fixed_trips_(fixed_trips()) {}
   // A view of `container` (anything that converts to its handle: a Frame&, a Supercell, ...).
   UNISPH_HOST_DEVICE constexpr View(const handle_type& container, Runtime runtime = Runtime{}, Child child = Child{},
                                     Collectivity group = Collectivity{})
-      : handle_(container), runtime_(runtime), child_(child), group_(group) {}
+      : handle_(container), runtime_(runtime), child_(child), group_(group), fixed_trips_(fixed_trips()) {}
   // A view without a container yet: the prototype of a Child level, which the parent view
   // points at each of its elements in turn (the seed writes PartInFrame(nullptr, runtime)).
   UNISPH_HOST_DEVICE constexpr View(std::nullptr_t, Runtime runtime = Runtime{}, Child child = Child{},
                                     Collectivity group = Collectivity{})
-      : handle_(Traits::empty_handle()), runtime_(runtime), child_(child), group_(group) {}
+      : handle_(Traits::empty_handle()), runtime_(runtime), child_(child), group_(group), fixed_trips_(fixed_trips()) {}
 
   // The same view over another container of the same type.
   UNISPH_HOST_DEVICE constexpr View rebind(const handle_type& container) const {
@@ -342,12 +343,11 @@ class View : public std::ranges::view_base {
     walk.count = element_count();
     walk.jump = runtime_.get_jump() * group_.size();
     const Index offset = runtime_.get_offset() + group_.rank() * runtime_.get_jump();
-    Index trips = 0;
-    if (walk.jump > 0) {
-      const Index rounds = (walk.count + walk.jump - 1) / walk.jump;  // ceil(C / j')
-      const Index skipped = offset / walk.jump;                       // floor(o' / j')
-      trips = skipped < rounds ? rounds - skipped : 0;
-    }
+    Index trips;
+    if constexpr (Traits::needs_runtime_size)
+      trips = trips_for(walk.count, offset, walk.jump);
+    else
+      trips = fixed_trips_;  // the same for every container of this type (a frame's N slots)
     walk.position = offset;
     walk.end_position = offset + trips * walk.jump;
     if constexpr (Walk::filled_front) {
@@ -359,10 +359,38 @@ class View : public std::ranges::view_base {
     return walk;
   }
 
+  // trips = ceil(C / j') - floor(o' / j') (0 once o' >= C rounded up to whole jumps). The divisions
+  // are 32-bit where the values fit: a 64-bit division is a long subroutine on the GPU and
+  // slower than a 32-bit one on most CPUs; these values nearly always fit.
+  UNISPH_HOST_DEVICE static constexpr Index trips_for(Index count, Index offset, Index jump) {
+    if (jump == 0) return 0;
+    Index rounds, skipped;
+    if (((count + jump) | offset) >> 32 == 0) {
+      const std::uint32_t c = std::uint32_t(count), o = std::uint32_t(offset), j = std::uint32_t(jump);
+      rounds = (c + j - 1) / j;  // ceil(C / j')
+      skipped = o / j;           // floor(o' / j')
+    } else {
+      rounds = (count + jump - 1) / jump;
+      skipped = offset / jump;
+    }
+    return skipped < rounds ? rounds - skipped : 0;
+  }
+  // Where the container fixes its element count at compile time, the trips depend only on the
+  // runtime values and the group: computed once, when the view is made, not at every start()
+  // (a child view starts once per element of its parent: per frame of a supercell).
+  UNISPH_HOST_DEVICE constexpr Index fixed_trips() const {
+    if constexpr (Traits::needs_runtime_size)
+      return 0;
+    else
+      return trips_for(Traits::number_of_elements, runtime_.get_offset() + group_.rank() * runtime_.get_jump(),
+                       runtime_.get_jump() * group_.size());
+  }
+
   handle_type handle_{};
   Runtime runtime_{};
   Child child_{};
   Collectivity group_{};
+  Index fixed_trips_ = 0;  // containers with a compile-time element count only
 };
 
 }  // namespace unisph::iter
