@@ -32,4 +32,25 @@ if [ $rc -ne 2 ] || ! grep -q "step [0-9]* (t = .*): variable 'Position (outside
 else
   echo "ok   blow_up: $(cat "$work/blow_up.err")"
 fi
+# Absurd parameters: each run stops with status 2 and one diagnostic, the first snapshot kept.
+#   gravity 1e308: the values overflow within the first advection step -> the first non-finite
+#     variable (in the order a step computes them) and the particle;
+#   sound speed 1e200: the acoustic step would be 1e-199 of the advection step -> named, not a hang;
+#   viscosity 1e300: the viscous advection step would be 1e-304 -> named, not a hang.
+sed 's/^gravity = 1.0/gravity = 1.0e308/' "$cases/dambreak_2d.toml" > "$work/overflow.toml"
+sed 's/^sound_speed = 20.0.*/sound_speed = 1.0e200/' "$cases/dambreak_2d.toml" > "$work/sound_speed.toml"
+sed 's/^sound_speed = 20.0.*/sound_speed = 20.0\nviscosity = 1.0e300/' "$cases/dambreak_2d.toml" > "$work/viscosity.toml"
+for case in "overflow:variable 'Density (not finite)' of fluid particle id [0-9]* (index [0-9]*), at" \
+            "sound_speed:would take .* acoustic steps .*fluid.sound_speed 1e+200" \
+            "viscosity:the advection step .* is below 1e-9 of the end time .*fluid.viscosity 1e+300"; do
+  name=${case%%:*}; expected=${case#*:}
+  timeout 120 "$exe" run "$work/$name.toml" --policy seq --end-time 1 --output "$work/out_$name" --quiet 2> "$work/$name.err"
+  rc=$?
+  if [ $rc -ne 2 ] || [ "$(wc -l < "$work/$name.err")" -ne 1 ] || ! grep -q "step 0 (t = 0): .*$expected" "$work/$name.err" ||
+     [ ! -s "$work/out_$name/Water_000000.vtp" ] || ! grep -q "^FAILED: " "$work/out_$name/run.log"; then
+    echo "FAIL $name: rc $rc: $(cat "$work/$name.err")"; status=1
+  else
+    echo "ok   $name: $(cat "$work/$name.err")"
+  fi
+done
 exit $status

@@ -201,13 +201,40 @@ struct WeaklyCompressibleSolver<T, D>::State {
       double speed = double(max_speed.exec(p));
       if (!std::isfinite(speed)) diagnose("the largest speed is not finite");
       double advection_dt = criteria.advection_step(speed);
+      if (!(advection_dt > 1e-9 * description.end_time)) {
+        std::ostringstream s;
+        s << "step " << advection_steps << " (t = " << time << "): the advection step " << advection_dt
+          << " is below 1e-9 of the end time " << description.end_time << " (largest speed " << speed
+          << ", fluid.viscosity " << description.viscosity << "): the run would not end";
+        throw SimulationError(s.str());
+      }
       const double remaining_time = until - time;
       if (remaining_time <= 0) return;
       if (advection_dt > remaining_time) advection_dt = remaining_time;
+      // Guards against a run that would never end its advection step: a sound speed out of
+      // all proportion to the flow, or speeds that explode within the step (the acoustic step
+      // shrinks with them while the advection step was fixed at its start).
+      const double expected_steps = advection_dt / criteria.acoustic_step(speed);
+      if (!(expected_steps < 1e6)) {
+        std::ostringstream s;
+        s << "step " << advection_steps << " (t = " << time << "): an advection step of " << advection_dt
+          << " would take " << expected_steps << " acoustic steps of " << criteria.acoustic_step(speed)
+          << " (fluid.sound_speed " << description.sound_speed << " against fluid.reference_velocity "
+          << description.reference_velocity << " and the largest speed " << speed
+          << "); weakly compressible SPH takes c0 about 10 U";
+        throw SimulationError(s.str());
+      }
+      std::uint64_t steps_here = 0;
       density_summation.exec(p);
       prior_acceleration.exec(p);
       double relaxed = 0;
       while (advection_dt - relaxed > 1e-12 * advection_dt) {
+        if (double(++steps_here) > 100 * expected_steps + 1000) {
+          std::ostringstream s;
+          s << "the largest speed grew to " << speed << " within one advection step (acoustic step " << last_acoustic_dt
+            << ", " << steps_here << " of them): the flow blew up";
+          diagnose(s.str());
+        }
         double dt = criteria.acoustic_step(speed);
         if (dt >= advection_dt - relaxed) dt = advection_dt - relaxed;
         last_acoustic_dt = dt;
