@@ -1,10 +1,11 @@
 #pragma once
 // NeighborPair<T, D>: what a kernel is given for each neighbour j of particle i — the pair's
-// geometry, computed once by the cutoff test: r_ij = x_i - x_j, |r_ij|^2 and |r_ij|.
+// geometry, computed once when the pair is found: r_ij = x_i - x_j, |r_ij|^2, |r_ij| and
+// e_ij = r_ij / |r_ij|.
 //
 // Stored neighbour lists keep one NeighborPair per pair (built at the relation's update()) and
 // hand the kernel a reference to it, so a pass over stored lists loads no neighbour position
-// and takes no square root: the geometry is that of the configuration at the last update, as
+// and takes no square root or division: the geometry is that of the configuration at the last update, as
 // in the dual-criteria time stepping of SPHinXsys (the configuration is updated once per
 // advection step and reused by all its acoustic steps). A direct search computes it from the
 // current positions at every pass.
@@ -20,13 +21,18 @@ struct NeighborPair {
   Vec<T, D> r_ij;      // x_i - x_j
   T squared_distance;  // |r_ij|^2, as the cutoff test computed it
   T r;                 // |r_ij| = sqrt(squared_distance)
+  Vec<T, D> e_ij;      // r_ij * (1 / |r_ij|); the zero vector for coincident particles
 
-  // Fills the distance from squared_distance (after the cutoff test accepted the pair).
-  UNISPH_HOST_DEVICE void complete() { r = std::sqrt(squared_distance); }
+  // Fills |r_ij| and e_ij from r_ij and squared_distance (once the cutoff test accepted the
+  // pair). A direct search calls it for every pair; what a kernel does not read is removed by
+  // the compiler once the loop is inlined.
+  UNISPH_HOST_DEVICE void complete() {
+    r = std::sqrt(squared_distance);
+    e_ij = r > T(0) ? r_ij * (T(1) / r) : Vec<T, D>{};
+  }
 
   UNISPH_HOST_DEVICE T distance() const { return r; }
-  // e_ij = r_ij / |r_ij|; the zero vector for coincident particles.
-  UNISPH_HOST_DEVICE Vec<T, D> direction() const { return r > T(0) ? r_ij * (T(1) / r) : Vec<T, D>{}; }
+  UNISPH_HOST_DEVICE const Vec<T, D>& direction() const { return e_ij; }
 };
 
 }  // namespace unisph

@@ -1,10 +1,10 @@
 #pragma once
 // StoredNeighborLists<T, D>: the neighbours of every source particle i, as a count per source
 // and a fixed number of slots per source (the capacity), each slot holding j (32-bit) and the
-// pair's geometry (NeighborPair: r_ij, |r_ij|^2, |r_ij|).
+// pair's geometry (NeighborPair: r_ij, |r_ij|^2, |r_ij|, e_ij).
 //
 // The geometry is cached: a pass over the lists reads it instead of the neighbours' positions
-// (no gather, no subtraction, no square root), and it is that of the configuration at the
+// (no gather, no subtraction, no square root, no division), and it is that of the configuration at the
 // build — the lists are a snapshot of the particle configuration, to be rebuilt when the
 // particles have moved enough to matter (in SPH: every advection step).
 //
@@ -13,7 +13,8 @@
 // scan; CSR needs the search twice (measured on the 2D dam break, seq: the two searches of the
 // CSR build took 25 % of the run). The capacity is the largest count seen so far (plus an
 // eighth after it grows): a build that finds a source with more neighbours than the capacity
-// grows it and searches again. Memory: capacity x sources x (4 + (D + 2) sizeof(T)) bytes.
+// grows it and searches again. Memory: capacity x sources x (4 + (2 D + 2) sizeof(T)) bytes
+// (52 per slot in 2D double, 36 in 3D float).
 //
 // Slot k of source i lies at i * source_stride + k * slot_stride: source after source on the
 // host (each particle's pairs are contiguous for one thread), slot after slot on the device
