@@ -16,5 +16,6 @@ void add_demo_command(CLI::App& app);
 void add_geometry_command(CLI::App& app);
 void add_levelset_command(CLI::App& app);
 void add_run_command(CLI::App& app);
+void add_generate_command(CLI::App& app);
 
 }  // namespace unisph::app

@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
   unisph::app::add_geometry_command(app);
   unisph::app::add_levelset_command(app);
   unisph::app::add_run_command(app);
+  unisph::app::add_generate_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
