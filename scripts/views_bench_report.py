@@ -32,7 +32,7 @@ def main(paths):
     print(f"host: {context.get('host_name', '?')}, {context.get('num_cpus', '?')} CPUs, "
           f"unisph_host_threads={context.get('unisph_host_threads', '?')}, gpu: {context.get('unisph_gpu', '?')}")
     print()
-    loops = [l for l in ("view", "for_each", "direct", "plain") if any(k[2] == l for k in times)]
+    loops = [l for l in ("view", "for_each", "nested", "direct", "plain") if any(k[2] == l for k in times)]
     head = ["case", "policy", "reps", "hand (ms)"]
     for loop in loops:
         head += [f"{loop} (ms)", f"{loop} / hand"]

@@ -15,8 +15,9 @@
 //                   out = 2 in + local point. "hand" is data_point_for (the engine's loop, one item
 //                   per data point), "for_each"/"view" a view of one package per item with its
 //                   child view of the 4^3 points, "plain" one item per package with a plain loop.
-// Three loops: "view" is the slides' iterator loop (a range-for over the view), "for_each" the
-// view's internal iteration (View::for_each: one plain loop per level), "hand" the loop one
+// Loops: "view" is the slides' iterator loop (a range-for over the view), "for_each" the
+// view's internal iteration (View::for_each: one plain loop per level), "nested" a range-for per
+// level over View::children() (a range of the child views), "hand" the loop one
 // writes without views. Each sums x * w over the particles it visits. Both loops of a pair must produce the same
 // checksum (the values are small integers, so the sums are exact in any order); the checksum is
 // reported as a counter.
@@ -91,13 +92,18 @@ struct Accumulate {
   }
 };
 
-// The view loops come in two forms: the slides' iterator loop (a range-for) and View::for_each.
-template <bool ForEach, class View>
+// The view loops come in three forms: the slides' iterator loop (a range-for), View::for_each,
+// and the range of child ranges (View::children(): one range-for per level).
+enum Form { iterator_loop = 0, for_each_loop = 1, nested_loop = 2 };
+template <int F, class View>
 UNISPH_HOST_DEVICE double sum_over(const View& view) {
   double sum = 0;
   const Accumulate add{sum};
-  if constexpr (ForEach)
+  if constexpr (F == for_each_loop)
     view.for_each(add);
+  else if constexpr (F == nested_loop)
+    for (auto frame : view.children())
+      for (auto slot : frame) add(slot);
   else
     for (auto slot : view) add(slot);
   return sum;
@@ -105,14 +111,14 @@ UNISPH_HOST_DEVICE double sum_over(const View& view) {
 
 // ---- (a) all particles ------------------------------------------------------------------------
 
-template <bool ForEach>
+template <int F>
 struct AllView {
   Cells cells;
   UNISPH_HOST_DEVICE double operator()(Index c) const {
     using Particles = iter::View<ConstFrame, direction::Forward, collectivity::None, iter::CompileTimeTuple<>>;
     const iter::View<iter::Supercell<ConstFrame>, direction::Forward, collectivity::None, iter::CompileTimeTuple<>, Particles>
         view(cells[c]);
-    return sum_over<ForEach>(view);
+    return sum_over<F>(view);
   }
 };
 
@@ -134,14 +140,14 @@ struct AllHand {
 
 constexpr Index frame_jump = 2, slot_offset = 1, slot_jump = 3;
 
-template <bool ForEach>
+template <int F>
 struct StridedView {
   Cells cells;
   UNISPH_HOST_DEVICE double operator()(Index c) const {
     using Particles = iter::View<ConstFrame, direction::Forward, collectivity::None, RuntimeTuple>;
     const iter::View<iter::Supercell<ConstFrame>, direction::Forward, collectivity::None, RuntimeTuple, Particles> view(
         cells[c], RuntimeTuple{0, all, frame_jump}, Particles(nullptr, RuntimeTuple{slot_offset, all, slot_jump}));
-    return sum_over<ForEach>(view);
+    return sum_over<F>(view);
   }
 };
 
@@ -165,7 +171,7 @@ struct StridedHand {
 
 constexpr Index team_size = 256;
 
-template <bool Strided, bool ForEach>
+template <bool Strided, int F>
 struct TeamView {
   Cells cells;
   unisph::View<double> partial;  // team_size per supercell
@@ -176,7 +182,7 @@ struct TeamView {
     const RuntimeTuple particles{Strided ? slot_offset : 0, all, Strided ? slot_jump : 1};
     const iter::View<iter::Supercell<ConstFrame>, direction::Forward, collectivity::None, RuntimeTuple, Particles> view(
         cells[c], frames, Particles(nullptr, particles, iter::NoChild{}, team));
-    partial[c * team_size + team.rank()] = sum_over<ForEach>(view);
+    partial[c * team_size + team.rank()] = sum_over<F>(view);
   }
 };
 
@@ -264,7 +270,7 @@ using T = float;
 constexpr int D = 3;
 using Position = Vec<T, D>;
 constexpr T dx = 1.0f, h = 1.3f * dx, cutoff = 2.0f * h;
-constexpr int side = 36;  // 46656 particles, about 75 neighbours and 480 candidates each
+constexpr int side = 30;  // 27000 particles, about 73 neighbours and 470 candidates each
 
 // Wendland C2 in 3D, support 2h.
 struct WendlandC2 {
@@ -397,7 +403,9 @@ void Neighbors(benchmark::State& state, bool cell_order) {
   DiscreteVariable<Position> positions("Lattice");
   CellLinkedList<T, D> cells(positions, box, cutoff);
   positions.assign(lattice(cell_order, cells.grid()));
-  cells.build(P{});
+  // Built on seq, so that the order inside each cell (that of the counting atomics) is the same in
+  // every run, and so is every particle's sum: the checksums of all runs agree bit for bit.
+  cells.build(seq);
   if (cells.report().in_cell_order != cell_order) {
     state.SkipWithError("the lattice is not in the intended order");
     return;
@@ -538,11 +546,13 @@ using pk::Packages;
   UNISPH_VIEWS_BENCHMARK(CASE, "hand/" policy_name, FN, P, nb::by_hand)                          \
   UNISPH_VIEWS_BENCHMARK(CASE, "direct/" policy_name, FN, P, nb::by_direct_search)
 #define UNISPH_VIEWS_BENCHMARKS(P, policy_name)                                                  \
-  UNISPH_VIEWS_BENCHMARK("all_particles", "view/" policy_name, PerSupercell, P, AllView<false>)     \
-  UNISPH_VIEWS_BENCHMARK("all_particles", "for_each/" policy_name, PerSupercell, P, AllView<true>)  \
-  UNISPH_VIEWS_BENCHMARK("all_particles", "hand/" policy_name, PerSupercell, P, AllHand)            \
-  UNISPH_VIEWS_BENCHMARK("strided", "view/" policy_name, PerSupercell, P, StridedView<false>)       \
-  UNISPH_VIEWS_BENCHMARK("strided", "for_each/" policy_name, PerSupercell, P, StridedView<true>)    \
+  UNISPH_VIEWS_BENCHMARK("all_particles", "view/" policy_name, PerSupercell, P, AllView<iterator_loop>)     \
+  UNISPH_VIEWS_BENCHMARK("all_particles", "for_each/" policy_name, PerSupercell, P, AllView<for_each_loop>)  \
+  UNISPH_VIEWS_BENCHMARK("all_particles", "nested/" policy_name, PerSupercell, P, AllView<nested_loop>)      \
+  UNISPH_VIEWS_BENCHMARK("all_particles", "hand/" policy_name, PerSupercell, P, AllHand)                    \
+  UNISPH_VIEWS_BENCHMARK("strided", "view/" policy_name, PerSupercell, P, StridedView<iterator_loop>)       \
+  UNISPH_VIEWS_BENCHMARK("strided", "for_each/" policy_name, PerSupercell, P, StridedView<for_each_loop>)    \
+  UNISPH_VIEWS_BENCHMARK("strided", "nested/" policy_name, PerSupercell, P, StridedView<nested_loop>)       \
   UNISPH_VIEWS_BENCHMARK("strided", "hand/" policy_name, PerSupercell, P, StridedHand)               \
   UNISPH_NEIGHBOR_BENCHMARKS(P, policy_name, "neighbors_cell_order", NeighborsCellOrder)         \
   UNISPH_NEIGHBOR_BENCHMARKS(P, policy_name, "neighbors_any_order", NeighborsAnyOrder)           \
@@ -555,11 +565,13 @@ UNISPH_VIEWS_BENCHMARKS(SequencedPolicy, "seq")
 UNISPH_VIEWS_BENCHMARKS(ParallelPolicy, "par")
 #if UNISPH_HAS_CUDA && defined(__CUDACC__)
 UNISPH_VIEWS_BENCHMARKS(ParallelDevicePolicy, "device")
-UNISPH_VIEWS_BENCHMARK("all_particles", "view/team", PerTeam, TeamView<false, false>)
-UNISPH_VIEWS_BENCHMARK("all_particles", "for_each/team", PerTeam, TeamView<false, true>)
+UNISPH_VIEWS_BENCHMARK("all_particles", "view/team", PerTeam, TeamView<false, iterator_loop>)
+UNISPH_VIEWS_BENCHMARK("all_particles", "for_each/team", PerTeam, TeamView<false, for_each_loop>)
+UNISPH_VIEWS_BENCHMARK("all_particles", "nested/team", PerTeam, TeamView<false, nested_loop>)
 UNISPH_VIEWS_BENCHMARK("all_particles", "hand/team", PerTeam, TeamHand<false>)
-UNISPH_VIEWS_BENCHMARK("strided", "view/team", PerTeam, TeamView<true, false>)
-UNISPH_VIEWS_BENCHMARK("strided", "for_each/team", PerTeam, TeamView<true, true>)
+UNISPH_VIEWS_BENCHMARK("strided", "view/team", PerTeam, TeamView<true, iterator_loop>)
+UNISPH_VIEWS_BENCHMARK("strided", "for_each/team", PerTeam, TeamView<true, for_each_loop>)
+UNISPH_VIEWS_BENCHMARK("strided", "nested/team", PerTeam, TeamView<true, nested_loop>)
 UNISPH_VIEWS_BENCHMARK("strided", "hand/team", PerTeam, TeamHand<true>)
 #endif
 

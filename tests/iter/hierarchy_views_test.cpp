@@ -1,4 +1,5 @@
 // Views over unisph's own hierarchies (iter/cell_list_traits.hpp, iter/package_traits.hpp):
+// (each walk by the iterators, by for_each and by children(), the range of child views)
 // cells of a cell linked list -> their particles, and data packages of a sparse grid -> their
 // 4^D data points. Every walk runs inside a kernel on every policy and is compared with a plain
 // loop over the same arrays on the host: forward and backward at both levels, offsets, jumps
@@ -35,14 +36,15 @@ using Position = Vec<T, D>;
 
 // ---- what a walk visits, recorded in a kernel ---------------------------------------------------
 
-// Item g walks make(g) twice, with the iterators and with for_each, and records what each slot
-// holds (make.id(slot), or -1 for an invalid slot), at most `capacity` slots per item.
+// Item g walks make(g) three times, with the iterators, with for_each and with a range-for per
+// level over children(), and records what each slot holds (make.id(slot), or -1 for an invalid
+// slot), at most `capacity` slots per item.
 template <class Maker>
 struct RecordWalk {
   Maker make;
   Index capacity;
-  unisph::View<long long> by_iterator, by_for_each;
-  unisph::View<Index> iterator_slots, for_each_slots;
+  unisph::View<long long> by_iterator, by_for_each, by_children;
+  unisph::View<Index> iterator_slots, for_each_slots, children_slots;
   UNISPH_HOST_DEVICE void operator()(Index g) const {
     const auto view = make(g);
     Index n = 0;
@@ -57,6 +59,13 @@ struct RecordWalk {
       ++m;
     });
     for_each_slots[g] = m;
+    Index l = 0;
+    for (auto child : view.children())
+      for (auto slot : child) {
+        if (l < capacity) by_children[g * capacity + l] = slot ? make.id(slot) : -1;
+        ++l;
+      }
+    children_slots[g] = l;
   }
 };
 
@@ -93,12 +102,14 @@ std::vector<long long> plain_nested(Index parents, RuntimeTuple parent, bool par
 template <class Policy, class Maker>
 void expect_walks(Policy policy, const Maker& make, Index items, Index capacity,
                   const std::vector<std::vector<long long>>& expected, const std::string& where) {
-  DiscreteVariable<long long> a("by_iterator", items * capacity), b("by_for_each", items * capacity);
-  DiscreteVariable<Index> na("iterator_slots", items), nb("for_each_slots", items);
+  DiscreteVariable<long long> a("by_iterator", items * capacity), b("by_for_each", items * capacity),
+      c("by_children", items * capacity);
+  DiscreteVariable<Index> na("iterator_slots", items), nb("for_each_slots", items), nc("children_slots", items);
   particle_for(policy, items,
-               RecordWalk<Maker>{make, capacity, a.write(policy), b.write(policy), na.write(policy), nb.write(policy)});
-  const std::vector<long long> ha = a.to_vector(), hb = b.to_vector();
-  const std::vector<Index> hna = na.to_vector(), hnb = nb.to_vector();
+               RecordWalk<Maker>{make, capacity, a.write(policy), b.write(policy), c.write(policy), na.write(policy),
+                                 nb.write(policy), nc.write(policy)});
+  const std::vector<long long> ha = a.to_vector(), hb = b.to_vector(), hc = c.to_vector();
+  const std::vector<Index> hna = na.to_vector(), hnb = nb.to_vector(), hnc = nc.to_vector();
   for (Index g = 0; g < items; ++g) {
     ASSERT_LE(expected[g].size(), capacity) << where;
     ASSERT_EQ(hna[g], expected[g].size()) << where << ", item " << g;
@@ -107,6 +118,9 @@ void expect_walks(Policy policy, const Maker& make, Index items, Index capacity,
     const std::vector<long long> got_b(hb.begin() + g * capacity, hb.begin() + g * capacity + hnb[g]);
     ASSERT_EQ(got_a, expected[g]) << where << ", item " << g << " (iterators)";
     ASSERT_EQ(got_b, expected[g]) << where << ", item " << g << " (for_each)";
+    ASSERT_EQ(hnc[g], expected[g].size()) << where << ", item " << g;
+    const std::vector<long long> got_c(hc.begin() + g * capacity, hc.begin() + g * capacity + hnc[g]);
+    ASSERT_EQ(got_c, expected[g]) << where << ", item " << g << " (children)";
   }
 }
 

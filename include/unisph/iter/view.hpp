@@ -286,6 +286,63 @@ class View : public std::ranges::view_base {
   }
   UNISPH_HOST_DEVICE constexpr std::default_sentinel_t end() const { return {}; }
 
+  // The child views of this level, one per trip, as a range of ranges:
+  //
+  //   for (auto frame : view.children())   // the Child view over each element of this level
+  //     for (auto slot : frame) ...         // the same slots, in the same order, as `for (auto slot : view)`
+  //
+  // Two loops the compilers see as nested, where the single iterator loop tests at every step
+  // whether the level below ended (docs/views.md measures both). A padding position gives the
+  // child view an empty container, as for_each does; its walk may still hold invalid slots (a
+  // frame's N empty slots under a team).
+  class child_iterator {
+   public:
+    using value_type = Child;
+    using reference = Child;
+    using difference_type = std::ptrdiff_t;
+    using iterator_concept = std::forward_iterator_tag;
+    using iterator_category = std::input_iterator_tag;
+
+    child_iterator() = default;
+    UNISPH_HOST_DEVICE constexpr Child operator*() const {
+      using ChildTraits = ContainerTraits<typename Child::container_type>;
+      return prototype_.rebind(walk_.holds_element() ? Traits::child(walk_.handle, walk_.cursor())
+                                                     : ChildTraits::empty_handle());
+    }
+    UNISPH_HOST_DEVICE constexpr child_iterator& operator++() {
+      walk_.advance();
+      return *this;
+    }
+    UNISPH_HOST_DEVICE constexpr child_iterator operator++(int) {
+      child_iterator before = *this;
+      walk_.advance();
+      return before;
+    }
+    friend UNISPH_HOST_DEVICE constexpr bool operator==(const child_iterator& a, const child_iterator& b) {
+      return a.walk_.position == b.walk_.position;
+    }
+    friend UNISPH_HOST_DEVICE constexpr bool operator==(const child_iterator& a, std::default_sentinel_t) {
+      return a.walk_.at_end();
+    }
+
+   private:
+    friend class View;
+    Walk walk_{};
+    Child prototype_{};
+  };
+  struct child_range : std::ranges::view_base {
+    child_iterator first{};
+    UNISPH_HOST_DEVICE constexpr child_iterator begin() const { return first; }
+    UNISPH_HOST_DEVICE constexpr std::default_sentinel_t end() const { return {}; }
+  };
+  UNISPH_HOST_DEVICE constexpr child_range children() const {
+    static_assert(has_child, "iter::View::children(): this view has no Child view; iterate it directly.");
+    child_range r;
+    r.first.walk_ = start();
+    r.first.prototype_ = child_;
+    return r;
+  }
+
   // f(slot) for every slot the iterators visit, in the same order and with the same invalid
   // slots, but as one plain loop per level (the iterator's single loop has to test at every
   // step whether a level below ended, which compilers cannot split back into nested loops).
