@@ -2,13 +2,16 @@
 // The second half of an acoustic step (continuity), in two kernels:
 //
 //   DensityRelaxation   drho_i/dt = rho_i sum_j [ (v_i - v_j).e_ij + k (p_i - p_j)/(rho0 c0) ] dW_ij V_j
-//                                 + rho_i sum_w 2 (v_i . n_w)(n_w . e_iw) dW_iw V_w
+//                                 + rho_i sum_w [ 2 (v_i . n_w)(n_w . e_iw) + k (p_i - p_w)/(rho0 c0) ] dW_iw V_w
 //                       i.e. 2 rho_i (v_i - u*) . grad W with the acoustic Riemann interface
-//                       velocity u*; the wall is a mirror (normal velocity reversed, wall at rest).
-//                       k = 1 keeps the Riemann velocity dissipation, k = 0 drops it. Free-surface
-//                       flows take k = 0: under gravity p_i - p_j does not vanish where a particle
-//                       lacks neighbours (free surface, wall), and the term would then create
-//                       pressure in water at rest (measured: the hydrostatic tank then sloshes).
+//                       velocity u* = (u_L + u_R)/2 + (p_L - p_R)/(2 rho0 c0), not limited (as in
+//                       SPHinXsys' Riemann pressure relaxation); the wall is a mirror (normal velocity
+//                       reversed, wall at rest) whose pressure p_w is the hydrostatic extrapolation
+//                       of the momentum equation (wall_dummy_pressure.hpp). k = 1 keeps the velocity
+//                       dissipation (fluid.continuity_dissipation = true, what the cases use), k = 0
+//                       drops it. The wall term matters: without it, p_i - p_j does not cancel next
+//                       to a wall under gravity (the fluid neighbours above i have a lower pressure,
+//                       nothing below balances them) and the term compresses water at rest.
 //   DensityUpdate       rho += drho/dt dt/2 (the other half is applied at the next step's start)
 #include <type_traits>
 
@@ -17,6 +20,7 @@
 #include "unisph/neighbor/inner_relation.hpp"
 #include "unisph/sph/acoustic_riemann_solver.hpp"
 #include "unisph/sph/fluid_variables.hpp"
+#include "unisph/sph/wall_dummy_pressure.hpp"
 #include "unisph/sph/wendland_kernel.hpp"
 
 namespace unisph::sph {
@@ -32,7 +36,7 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
 
   struct Kernel {
     NeighborSearch<T, D> inner, contact;
-    View<const Vec<T, D>> velocity, wall_normal;
+    View<const Vec<T, D>> velocity, prior_acceleration, wall_normal;
     View<const T> density, pressure, mass;
     View<T> density_change_rate;
     WendlandC2Kernel<T, D> kernel;
@@ -50,19 +54,24 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
         const T divergence = dot(v_i - velocity[j], e) + dissipation * riemann.velocity_dissipation(p_i, pressure[j]);
         rate += divergence * kernel.derivative(r) * mass[j] / density[j];
       });
+      const Vec<T, D> a0 = prior_acceleration[i];
+      const T rho_i = density[i];
       contact.for_each_neighbor(i, [&](Index w, const NeighborPair<T, D>& pair) {
         const T r = pair.distance();
         const Vec<T, D> e = pair.r_ij * (T(1) / r);
         const Vec<T, D> n = wall_normal[w];
-        rate += T(2) * dot(v_i, n) * dot(n, e) * kernel.derivative(r) * wall_volume;
+        const T p_w = wall_dummy_pressure(p_i, rho_i, a0, pair.r_ij);
+        const T divergence = T(2) * dot(v_i, n) * dot(n, e) + dissipation * riemann.velocity_dissipation(p_i, p_w);
+        rate += divergence * kernel.derivative(r) * wall_volume;
       });
-      density_change_rate[i] = rate * density[i];
+      density_change_rate[i] = rate * rho_i;
     }
   };
   static_assert(std::is_trivially_copyable_v<Kernel>, "Kernels are copied to the device byte for byte.");
 
   Kernel make_kernel(KernelContext& c) {
-    return {inner_.search(c), contact_.search(c), c.read(fluid_.velocity), c.read(wall_.normal),
+    return {inner_.search(c), contact_.search(c), c.read(fluid_.velocity), c.read(fluid_.prior_acceleration),
+            c.read(wall_.normal),
             c.read(fluid_.density), c.read(fluid_.pressure), c.read(fluid_.mass),
             c.write(fluid_.density_change_rate), kernel_, riemann_, wall_volume_, dissipation_};
   }

@@ -5,13 +5,13 @@
 //   PressureRelaxation        a_i = -(1/rho_i) sum_j 2 p*_ij dW_ij V_j e_ij
 //                             (Riemann interface pressure with the dissipation limiter)
 //                             + the same with each wall dummy particle w, whose pressure is
-//                             extrapolated from p_i with the prior (gravity) acceleration,
-//                             p_w = p_i + rho_i a0_i.(x_w - x_i), and whose velocity is the mirror of
-//                             v_i (u_L - u_R = -2 v_i.n_w). The extrapolation follows the whole r_iw,
-//                             not only its normal part: beside a side wall the wall particles above
-//                             and below i must carry the hydrostatic gradient, or the water there
-//                             lacks half its vertical pressure force and slides down the wall
-//                             (measured: a tank at rest then circulates).
+//                             extrapolated from p_i with the prior (gravity) acceleration
+//                             (wall_dummy_pressure.hpp), p_w = p_i + rho_i a0_i.(x_w - x_i), and whose
+//                             velocity is the mirror of v_i (u_L - u_R = -2 v_i.n_w). The extrapolation
+//                             follows the whole r_iw, not only its normal part: beside a side wall the
+//                             wall particles above and below i must carry the hydrostatic gradient, or
+//                             the water there lacks half its vertical pressure force and slides down
+//                             the wall (measured: a tank at rest then circulates).
 //   VelocityUpdate            v += (a + a0) dt, x += v dt/2   (the second half's position step)
 //
 // The acceleration is stored and applied in its own kernel because PressureRelaxation
@@ -24,6 +24,7 @@
 #include "unisph/sph/acoustic_riemann_solver.hpp"
 #include "unisph/sph/equation_of_state.hpp"
 #include "unisph/sph/fluid_variables.hpp"
+#include "unisph/sph/wall_dummy_pressure.hpp"
 #include "unisph/sph/wendland_kernel.hpp"
 
 namespace unisph::sph {
@@ -94,7 +95,7 @@ class PressureRelaxation : public InteractionDynamics<PressureRelaxation<T, D>> 
         const T r = pair.distance();
         const Vec<T, D> e = pair.r_ij * (T(1) / r);
         const Vec<T, D> n = wall_normal[w];
-        const T p_w = p_i - rho_i * dot(a0, pair.r_ij);
+        const T p_w = wall_dummy_pressure(p_i, rho_i, a0, pair.r_ij);
         const T jump = -T(2) * dot(v_i, n);
         force += e * (riemann.twice_interface_pressure(p_i, p_w, jump) * kernel.derivative(r) * wall_volume);
       });
