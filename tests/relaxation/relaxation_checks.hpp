@@ -8,7 +8,6 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
-#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -53,18 +52,6 @@ RelaxedSetState measure_state(P policy, ParticleRelaxation<D>& relaxation) {
     s.total_volume += double(volume[i]);
   }
   s.mean_error /= double(error.size());
-  if (std::getenv("RDUMP")) {
-    const std::vector<Vec<Real, D>> x = relaxation.positions().to_vector();
-    std::vector<std::size_t> order(error.size());
-    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-    std::partial_sort(order.begin(), order.begin() + 8, order.end(), [&](auto a, auto b) { return error[a] > error[b]; });
-    for (int k = 0; k < 8; ++k) {
-      const auto i = order[k];
-      std::printf("   worst %zu x", i);
-      for (int d = 0; d < D; ++d) std::printf(" %.4f", double(x[i][d]));
-      std::printf(" phi %.4f error %.3e sum %.4f\n", double(phi[i]), error[i], double(sum[i]));
-    }
-  }
   std::sort(error.begin(), error.end());
   s.max_error = error.back();
   s.p99_error = error[std::size_t(0.99 * double(error.size() - 1))];

@@ -15,17 +15,21 @@
 // 3. Stop after `iterations` or when the mean of |Σ_j ∇W_ij V_j + G| h falls below `tolerance`.
 //
 // The step. a_i is linear in small displacements: a plane wave of wave vector k on a lattice
-// gives a = -M(k) u with M(k) = 2 Σ_j ∇∇W(x_j) (1 - cos k·x_j) V_j. The largest eigenvalue of M
-// over the Brillouin zone, for Wendland C2 with h = 1.3 dx, is 3.24 / dx² in 2D and 3.30 / dx² in
-// 3D (scripts/relaxation_step_bound.py), i.e. λ_max h² = 5.5 and 5.6. The iteration
-// x += β a multiplies each mode by (1 - β λ); it is stable for β λ_max < 2 and damps the
-// stiffest mode fastest at β λ_max = 1, β = 0.18 h². We take β = 0.1 h² (step_coefficient),
-// below that with a margin for the surface term (whose stiffness 2 |W1'(phi)| adds to a
-// particle's own near the wall). Far from equilibrium (the first iterations next to the
-// surface) β a would move particles by a good part of h, more than the linearisation holds
-// for, so the step is capped, as SPHinXsys does (its dt² = 0.0625 h / max|a| with x += a dt² / 2):
-// the particle with the largest residual moves at most `largest_move` × h (default 1/32, the
-// SPHinXsys value). step = min(β, largest_move h / max|a|).
+// gives a = -M(k) u with M(k) = 2 Σ_j ∇∇W(x_j) (1 - cos k·x_j) V_j. Over the Brillouin zone, for
+// Wendland C2 with h = 1.3 dx, the largest eigenvalue of M is 3.24 / dx² in 2D and 3.30 / dx² in
+// 3D (λ_max h² = 5.5 and 5.6; docs/particle_generation.md). The iteration x += β a multiplies each
+// mode by (1 - β λ): stable for β < 2 / λ_max = 0.36 h². We take β = 0.25 h² (step_coefficient;
+// of 0.1, 0.25 and 0.3 h² it reduced the error fastest on the annulus test). The smallest
+// eigenvalue is negative (-0.11 / dx² in 3D, -0.06 / dx² in 2D): the cubic lattice is a saddle
+// of this relaxation, so the interior drifts off the lattice into a disordered arrangement, which
+// is where most iterations go.
+// Far from equilibrium (the first iterations next to the surface) β a would move particles by a
+// good part of h, more than the linearisation holds for, so the step is capped by the largest
+// residual, as SPHinXsys does (its dt² = 0.0625 h / max|a| with x += a dt² / 2, i.e. the particle
+// with the largest residual moves h / 32): step = min(β, largest_move h / max|a|), largest_move =
+// 1/32 by default.
+// Optional momentum (heavy ball with a per-particle restart) and a surface gap (SPHinXsys keeps
+// particles dx/2 inside) are settings; both were measured worse here (docs) and are off.
 //
 // Neighbours: direct search on every policy (the lists would be rebuilt every iteration);
 // particles in cell order make it read positions contiguously and in ascending j, so every
@@ -53,9 +57,10 @@ namespace unisph {
 struct RelaxationSettings {
   int iterations = 1000;
   Real tolerance = Real(0);           // stop once the mean of |Σ ∇W V + G| h is below (0: never)
-  Real step_coefficient = Real(0.1);  // β / h² in the linear regime (stable below 0.36)
+  Real step_coefficient = Real(0.25); // β / h² in the linear regime (stable below 0.36)
   Real largest_move = Real(0.03125);  // largest displacement per iteration, in h
-  Real momentum = Real(0.9);          // heavy-ball factor of the previous move (0: plain descent)
+  Real momentum = Real(0);            // heavy-ball factor of the previous move (0: plain descent)
+  Real surface_gap = Real(0);         // particles kept this far inside the surface, in dx
 };
 
 // One row of the history: the state before the iteration's move.
@@ -164,6 +169,10 @@ class ParticleRelaxation {
   // step taken.
   template <ExecutionPolicy P>
   Real move(P policy, const RelaxationSettings& settings, const RelaxationRecord& measured) {
+    if (settings.surface_gap * dx_ != gap_) {
+      gap_ = settings.surface_gap * dx_;
+      surface_space_ = -1;
+    }
     use_surface(policy);
     const Real h = kernel_.h;
     const Real largest = measured.max_error * Real(2) / h;  // max |a|
@@ -209,7 +218,7 @@ class ParticleRelaxation {
   void use_surface(P policy) {
     if (surface_space_ == int(P::space)) return;
     RelaxationSurface<D> surface{level_set_.view(policy), region_ == SeedRegion::inside, box_,
-                                 HalfSpaceKernelIntegral<D>{kernel_}};
+                                 HalfSpaceKernelIntegral<D>{kernel_}, gap_};
     residual_method_->set_surface(surface);
     step_->set_surface(surface);
     surface_distance_->set_surface(surface);
@@ -235,6 +244,7 @@ class ParticleRelaxation {
   std::unique_ptr<ResidualNorms<D>> norms_;
   std::unique_ptr<SurfaceDistance<D>> surface_distance_;
   int surface_space_ = -1;
+  Real gap_ = Real(0);
 };
 
 }  // namespace unisph

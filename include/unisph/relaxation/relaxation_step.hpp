@@ -40,7 +40,11 @@ class RelaxationStep : public UpdateDynamics<RelaxationStep<D>> {
     RelaxationSurface<D> surface;
     Real momentum;
     UNISPH_HOST_DEVICE void update(Index i, Real step) const {
-      const Position move = velocity[i] * momentum + residual[i] * step;
+      // A particle whose residual turned against its motion has passed its minimum along it:
+      // it drops the motion (a per-particle restart of the momentum, as in FIRE) instead of
+      // oscillating about the minimum.
+      const Position v = dot(velocity[i], residual[i]) < Real(0) ? Position{} : velocity[i];
+      const Position move = v * momentum + residual[i] * step;
       const Position moved = position[i] + move;
       const Position bounded = surface.bound(moved);
       // A particle put back onto the surface forgets its motion (it would carry it outwards again).
