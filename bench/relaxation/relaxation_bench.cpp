@@ -12,6 +12,7 @@
 // Device benchmarks skip with the reason where there is no GPU.
 #include <benchmark/benchmark.h>
 
+#include <cstdlib>
 #include <fstream>
 #include <memory>
 #include <string>
@@ -24,8 +25,13 @@
 namespace {
 using namespace unisph;
 
+// $UNISPH_BENCH_DATA_DIR where the tree was copied elsewhere (the GPU machine), else the source tree's.
+std::string data_dir() {
+  const char* override_dir = std::getenv("UNISPH_BENCH_DATA_DIR");
+  return override_dir ? override_dir : UNISPH_BENCH_DATA_DIR;
+}
 const LoadedMesh& teapot() {
-  static const LoadedMesh mesh = load_triangle_mesh(std::string(UNISPH_BENCH_DATA_DIR) + "/geometry/teapot.stl");
+  static const LoadedMesh mesh = load_triangle_mesh(data_dir() + "/geometry/teapot.stl");
   return mesh;
 }
 Box<Real, 3> teapot_box() {
