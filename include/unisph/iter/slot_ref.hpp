@@ -22,6 +22,19 @@ class SlotRef {
   SlotRef() = default;
   UNISPH_HOST_DEVICE constexpr explicit SlotRef(T* element) : element_(element) {}
 
+  // The slot of an element the view knows exists. It tells the compiler that the pointer is not
+  // null, so that `if (slot)` in a loop body costs nothing for the slots of a filled block (nvcc
+  // and GCC otherwise test every slot's pointer against null).
+  UNISPH_HOST_DEVICE static constexpr SlotRef of(T& element) {
+    T* p = &element;
+#if defined(__CUDA_ARCH__)
+    __builtin_assume(p != nullptr);
+#elif defined(__GNUC__) || defined(__clang__)
+    if (p == nullptr) __builtin_unreachable();
+#endif
+    return SlotRef(p);
+  }
+
   // True when the slot holds an element.
   UNISPH_HOST_DEVICE constexpr explicit operator bool() const { return element_ != nullptr; }
   UNISPH_HOST_DEVICE constexpr bool valid() const { return element_ != nullptr; }

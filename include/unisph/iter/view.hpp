@@ -114,7 +114,10 @@ struct LevelWalk {
   Index count = 0;        // positions below count may hold elements, the others are padding
   Index filled_end = 0;   // filled_front only: positions below it hold elements
 
-  UNISPH_HOST_DEVICE constexpr bool at_end() const { return position == end_position; }
+  // Positions only grow, by the jump, up to end_position = offset + trips * jump. `>=` rather than
+  // `==` lets compilers count the trips of a loop over padding positions and drop it where the
+  // body does nothing with an invalid slot (nvcc kept such empty loops, one per frame, with `==`).
+  UNISPH_HOST_DEVICE constexpr bool at_end() const { return position >= end_position; }
   UNISPH_HOST_DEVICE constexpr typename Traits::Cursor cursor() const {
     if constexpr (random_access)
       return Traits::start(handle, position, Forward);
@@ -200,7 +203,7 @@ class View : public std::ranges::view_base {
       if constexpr (has_child)
         return *child_;
       else
-        return walk_.holds_element() ? slot_type(&Traits::element(walk_.handle, walk_.cursor())) : slot_type();
+        return walk_.holds_element() ? slot_type::of(Traits::element(walk_.handle, walk_.cursor())) : slot_type();
     }
     UNISPH_HOST_DEVICE constexpr iterator& operator++() {
       if constexpr (has_child) {
@@ -357,7 +360,7 @@ class View : public std::ranges::view_base {
       const Index stop = last < walk.count ? last : walk.count;
       if constexpr (!forward)
         for (; !walk.at_end() && walk.position < slots - filled; walk.advance()) f(slot_type());
-      for (; walk.position < stop; walk.advance()) f(slot_type(&Traits::element(handle_, walk.cursor())));
+      for (; walk.position < stop; walk.advance()) f(slot_type::of(Traits::element(handle_, walk.cursor())));
       for (; !walk.at_end(); walk.advance()) f(slot_type());
     } else {
       for (Walk walk = start(); !walk.at_end(); walk.advance()) {
@@ -366,7 +369,7 @@ class View : public std::ranges::view_base {
           child_.rebind(walk.holds_element() ? Traits::child(walk.handle, walk.cursor()) : ChildTraits::empty_handle())
               .for_each(f);
         } else {
-          f(walk.holds_element() ? slot_type(&Traits::element(walk.handle, walk.cursor())) : slot_type());
+          f(walk.holds_element() ? slot_type::of(Traits::element(walk.handle, walk.cursor())) : slot_type());
         }
       }
     }
