@@ -30,6 +30,7 @@ struct LevelSetOptions {
   double dx = 0;
   int levels = 0;
   std::string sign = "winding";
+  bool no_cleaning = false;
   ExecutionOptions execution;
 };
 
@@ -70,10 +71,11 @@ void build_and_report(Search& search, const Vec<Real, D>& lo, const Vec<Real, D>
   visit_policy(parse_policy(options.execution.policy), [&](auto policy) {
     if (winding)
       level_set = std::make_unique<MultiResolutionLevelSet<D>>(
-          policy, WindingNumberSign<ShapeSearchView<D>>{search.view(policy)}, lo, hi, Real(options.dx), options.levels);
+          policy, WindingNumberSign<ShapeSearchView<D>>{search.view(policy)}, lo, hi, Real(options.dx), options.levels,
+          true, !options.no_cleaning);
     else
       level_set = std::make_unique<MultiResolutionLevelSet<D>>(policy, search.view(policy), lo, hi, Real(options.dx),
-                                                               options.levels);
+                                                               options.levels, true, !options.no_cleaning);
     fence(policy);
   });
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -90,9 +92,12 @@ void build_and_report(Search& search, const Vec<Real, D>& lo, const Vec<Real, D>
                 layer.data_packages() * package_points<D>, layer.bytes_per_data_point());
   }
   const LevelSetStageTimes& t = level_set->stage_seconds();
-  std::printf("  time   tagging %.3f s, packages %.3f s, distance %.3f s, normals %.3f s, kernel integrals %.3f s, "
-              "total %.3f s\n",
-              t.tagging, t.packages, t.distance, t.normals, t.kernel_integrals, total);
+  if (!options.no_cleaning)
+    std::printf("  small-feature cleaning removed %zu data points of the finest layer\n",
+                std::size_t(level_set->removed_data_points()));
+  std::printf("  time   tagging %.3f s, packages %.3f s, distance %.3f s, normals %.3f s, cleaning %.3f s, kernel "
+              "integrals %.3f s, total %.3f s\n",
+              t.tagging, t.packages, t.distance, t.normals, t.cleaning, t.kernel_integrals, total);
   std::filesystem::create_directories(options.output);
   for (int l = 0; l < level_set->levels(); ++l)
     write_layer<D>(std::filesystem::path(options.output) / ("levelset_layer_" + std::to_string(l) + ".vtp"),
@@ -140,6 +145,8 @@ void add_levelset_command(CLI::App& app) {
   command->add_option("--sign", options->sign, "inside/outside by the winding number or the pseudonormal")
       ->check(CLI::IsMember({"winding", "pseudonormal"}))
       ->capture_default_str();
+  command->add_flag("--no-cleaning", options->no_cleaning,
+                    "keep features thinner than the data spacing (phi stays the exact signed distance)");
   command->add_option("-o,--output", options->output, "folder for the VTK files")->required();
   add_execution_options(*command, options->execution);
   command->callback([options] { run(*options); });

@@ -4,7 +4,14 @@
 // finest layer and its memory per data point (phi, cell -> package index, package metadata).
 //
 //   bench_level_set [N ...] [--policy seq|par|device ...] [--sign winding|pseudonormal]
-//                   [--no-kernel-integrals] [--repeat R]                      default N: 256 512
+//                   [--no-kernel-integrals] [--no-cleaning] [--repeat R] [--openvdb]
+//                                                                             default N: 256 512
+//
+// --openvdb (where built with OpenVDB): OpenVDB's meshToLevelSet of the same mesh at the same
+// voxel size, half width 3 voxels (our finest band holds every point with |phi| < 4 dx), float,
+// in the same run; its time (mesh in memory, no file input or output) and memUsage() per active
+// voxel, beside our finest layer's bytes per data point with |phi| < 3 dx in float (phi 4 bytes,
+// the cell -> package index, package cell, type and 27 neighbours).
 //
 // --sign: the generalized winding number (default; right for teapot.stl, which has walls
 // inside its volume) or the pseudonormal of the nearest feature (cheaper; wrong next to those
@@ -13,6 +20,8 @@
 // The mesh is read and its BVH built once, outside the timings; the GPU is warmed up by one
 // small build first. The data folder is the source tree's tests/data, or $UNISPH_TEST_DATA_DIR.
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -22,6 +31,9 @@
 #include "unisph/exec/algorithms.hpp"
 #include "unisph/geometry/mesh_repair.hpp"
 #include "unisph/levelset/multi_resolution_level_set.hpp"
+#if UNISPH_BENCH_HAS_OPENVDB
+#include "levelset/openvdb_mesh_to_level_set.hpp"
+#endif
 
 namespace {
 using namespace unisph;
@@ -35,6 +47,8 @@ std::string data_file(const std::string& relative) {
 struct Options {
   bool winding = true;
   bool kernel_integrals = true;
+  bool cleaning = true;
+  bool openvdb = false;
   int repeat = 1;
 };
 
@@ -43,8 +57,9 @@ MultiResolutionLevelSet<3> build(P policy, TriangleMeshSearch& search, const Vec
                                  const Options& options) {
   if (options.winding)
     return MultiResolutionLevelSet<3>(policy, WindingNumberSign<TriangleMeshSearchView>{search.view(policy)}, lo, hi, dx,
-                                      0, options.kernel_integrals);
-  return MultiResolutionLevelSet<3>(policy, search.view(policy), lo, hi, dx, 0, options.kernel_integrals);
+                                      0, options.kernel_integrals, options.cleaning);
+  return MultiResolutionLevelSet<3>(policy, search.view(policy), lo, hi, dx, 0, options.kernel_integrals,
+                                    options.cleaning);
 }
 
 template <class P>
@@ -59,12 +74,24 @@ void run(P policy, TriangleMeshSearch& search, const Vec3& lo, const Vec3& hi, i
     const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const LevelSetStageTimes& t = level_set.stage_seconds();
     LevelSetLayer<3>& finest = level_set.finest();
+    // Our finest layer in float per data point with |phi| < 3 dx (OpenVDB's half width).
+    const std::vector<Real> phi = finest.phi.to_vector();
+    std::size_t in_band = 0;
+    for (std::size_t i = std::size_t(far_field_packages) * package_points<3>; i < phi.size(); ++i)
+      in_band += std::fabs(phi[i]) < Real(3) * dx;
+    const double float_bytes =
+        double(finest.packages()) * (package_points<3> * 4.0 + sizeof(std::uint64_t) + sizeof(PackageType) +
+                                     sizeof(PackageNeighbourhood<3>)) +
+        double(finest.grid().cell_count()) * sizeof(std::uint32_t);
     std::printf(
-        "%-6s N=%-5d levels=%d finest: packages=%zu data_points=%zu bytes/point=%.2f | tagging %.3f s, packages %.3f "
-        "s, distance %.3f s, normals %.3f s, kernel integrals %.3f s, total %.3f s (%s, %s sign)\n",
+        "%-6s N=%-5d levels=%d finest: packages=%zu data_points=%zu bytes/point=%.2f points(|phi|<3dx)=%zu "
+        "float bytes/point(|phi|<3dx)=%.2f removed=%zu | tagging %.3f s, packages %.3f s, distance %.3f s, normals "
+        "%.3f s, cleaning %.3f s, kernel integrals %.3f s, total %.3f s; signed distance (tagging+packages+distance) "
+        "%.3f s (%s, %s sign)\n",
         std::string(P::name).c_str(), n, level_set.levels(), finest.data_packages(),
-        finest.data_packages() * package_points<3>, finest.bytes_per_data_point(), t.tagging, t.packages, t.distance,
-        t.normals, t.kernel_integrals, total, sizeof(Real) == 4 ? "float" : "double",
+        finest.data_packages() * package_points<3>, finest.bytes_per_data_point(), in_band, float_bytes / double(in_band),
+        std::size_t(level_set.removed_data_points()), t.tagging, t.packages, t.distance, t.normals, t.cleaning,
+        t.kernel_integrals, total, t.tagging + t.packages + t.distance, sizeof(Real) == 4 ? "float" : "double",
         options.winding ? "winding" : "pseudonormal");
     std::fflush(stdout);
   }
@@ -86,6 +113,10 @@ int main(int argc, char** argv) {
       options.winding = std::string(argv[++i]) != "pseudonormal";
     else if (a == "--no-kernel-integrals")
       options.kernel_integrals = false;
+    else if (a == "--no-cleaning")
+      options.cleaning = false;
+    else if (a == "--openvdb")
+      options.openvdb = true;
     else
       sizes.push_back(std::atoi(a.c_str()));
   }
@@ -97,6 +128,25 @@ int main(int argc, char** argv) {
   for (int k = 0; k < 3; ++k) lo[k] = Real(loaded.report.box_min[k]), hi[k] = Real(loaded.report.box_max[k]);
   std::printf("teapot.stl: %zu triangles; host threads %d%s%s\n", loaded.mesh.triangles.size(), host_threads(),
               execution_info().device_present ? "; GPU " : "", execution_info().device_name.c_str());
+  if (options.openvdb) {
+#if UNISPH_BENCH_HAS_OPENVDB
+    std::vector<std::array<float, 3>> vertices;
+    std::vector<std::array<unsigned, 3>> triangles;
+    for (const auto& v : loaded.mesh.vertices) vertices.push_back({float(v[0]), float(v[1]), float(v[2])});
+    for (const auto& t : loaded.mesh.triangles) triangles.push_back({t[0], t[1], t[2]});
+    Real longest = 0;
+    for (int k = 0; k < 3; ++k) longest = std::max(longest, hi[k] - lo[k]);
+    for (int n : sizes) {
+      const auto r = bench::openvdb_mesh_to_level_set(vertices, triangles, float(longest / Real(n)), 3.0f);
+      std::printf("openvdb N=%-5d meshToLevelSet (float, half width 3 voxels) %.3f s, active voxels %zu, memUsage %zu "
+                  "bytes = %.2f bytes/active voxel\n",
+                  n, r.seconds, r.active_voxels, r.memory_bytes, double(r.memory_bytes) / double(r.active_voxels));
+      std::fflush(stdout);
+    }
+#else
+    std::printf("openvdb: not built in (CMake did not find OpenVDB)\n");
+#endif
+  }
   for (PolicyKind kind : policies) {
     require_policy(kind);
     for (int n : sizes) {

@@ -18,6 +18,9 @@
 //              sign from the shape (pseudonormal or winding number) in core packages, from the
 //              cell's side in inner ones
 //   normals    regularised central difference of phi
+//   cleaning   finest layer only (skipped when clean_small_features is false): features thinner
+//              than about one data spacing removed by re-distancing (small_feature_cleaning.hpp),
+//              then the normals again where something was removed
 //   kernel integrals   of the Wendland kernel (h = 1.3 finest dx) and its gradient over the
 //                      outside (kernel_integrals.hpp; skipped when with_kernel_integrals is
 //                      false, and then not to be probed)
@@ -40,11 +43,12 @@
 #include "unisph/levelset/multi_resolution_level_set_view.hpp"
 #include "unisph/levelset/outside_flood_fill.hpp"
 #include "unisph/levelset/shape_search.hpp"
+#include "unisph/levelset/small_feature_cleaning.hpp"
 
 namespace unisph {
 
 struct LevelSetStageTimes {
-  double tagging = 0, packages = 0, distance = 0, normals = 0, kernel_integrals = 0;
+  double tagging = 0, packages = 0, distance = 0, normals = 0, cleaning = 0, kernel_integrals = 0;
 };
 
 template <int D>
@@ -56,10 +60,13 @@ class MultiResolutionLevelSet {
   // longest side (fewer would make the padding of two coarse cells a large part of every layer).
   // shape: ShapeSearchView<D> in the policy's memory space, or any trivially copyable object
   // with the same nearest(p).squared_distance and sign(p, nearest) (analytic shapes in tests).
+  // clean_small_features: false keeps phi the exact signed distance of the shape.
   template <ExecutionPolicy P, class Shape>
   MultiResolutionLevelSet(P policy, const Shape& shape, const Vec<Real, D>& lo, const Vec<Real, D>& hi,
-                          Real data_spacing, int levels = 0, bool with_kernel_integrals = true)
+                          Real data_spacing, int levels = 0, bool with_kernel_integrals = true,
+                          bool clean_small_features = true)
       : with_kernel_integrals_(with_kernel_integrals),
+        clean_small_features_(clean_small_features),
         smoothing_length_(sph::WendlandC2Kernel<Real, D>::smoothing_length_ratio * data_spacing) {
     if (!(data_spacing > Real(0))) throw Error("level set: the data spacing must be positive");
     Real longest = Real(0);
@@ -95,6 +102,8 @@ class MultiResolutionLevelSet {
   LevelSetLayer<D>& layer(int level) { return *layers_[level]; }
   LevelSetLayer<D>& finest() { return *layers_.back(); }
   const LevelSetStageTimes& stage_seconds() const { return times_; }
+  // Data points of the finest layer that small-feature cleaning removed (0 when it was off).
+  Index removed_data_points() const { return removed_; }
 
   template <ExecutionPolicy P>
   MultiResolutionLevelSetView<D> view(P policy) {
@@ -117,7 +126,13 @@ class MultiResolutionLevelSet {
       View<CellTag> tags = decided.write(policy);
       particle_for(policy, cells, TagEveryCell<D, Shape>{shape, grid, tags});
       particle_for(policy, cells, SeedOutsideFromBorder<D>{grid, tags});
-      while (particle_reduce(policy, cells, Sum<Index>{}, SpreadOutside<D>{grid, tags}) > 0) {
+      // Sweeps between two arrays until one changes nothing: then both hold the result.
+      DiscreteVariable<CellTag> spare("CellSideSweep", cells);
+      for (bool into_spare = true;; into_spare = !into_spare) {
+        DiscreteVariable<CellTag>& from = into_spare ? decided : spare;
+        DiscreteVariable<CellTag>& to = into_spare ? spare : decided;
+        if (particle_reduce(policy, cells, Sum<Index>{}, SpreadOutside<D>{grid, from.read(policy), to.write(policy)}) == 0)
+          break;
       }
     } else {
       LevelSetLayer<D>& coarse = *layers_[level - 1];
@@ -134,8 +149,14 @@ class MultiResolutionLevelSet {
     auto t3 = Clock::now();
     layer.compute_normals(policy);
     auto t4 = Clock::now();
+    if (clean_small_features_ && level + 1 == levels()) {
+      removed_ = clean_small_features(policy, layer.mesh, layer.phi, layer.normal);
+      if (removed_ > 0) layer.compute_normals(policy);
+    }
+    auto t5 = Clock::now();
     if (with_kernel_integrals_) layer.compute_kernel_integrals(policy, smoothing_length_);
-    times_.kernel_integrals += std::chrono::duration<double>(Clock::now() - t4).count();
+    times_.kernel_integrals += std::chrono::duration<double>(Clock::now() - t5).count();
+    times_.cleaning += std::chrono::duration<double>(t5 - t4).count();
     times_.tagging += std::chrono::duration<double>(t1 - t0).count();
     times_.packages += std::chrono::duration<double>(t2 - t1).count();
     times_.distance += std::chrono::duration<double>(t3 - t2).count();
@@ -145,6 +166,8 @@ class MultiResolutionLevelSet {
   std::vector<std::unique_ptr<LevelSetLayer<D>>> layers_;
   LevelSetStageTimes times_;
   bool with_kernel_integrals_;
+  bool clean_small_features_;
+  Index removed_ = 0;
   Real smoothing_length_;  // of the kernel integrals: 1.3 times the finest data spacing
 };
 

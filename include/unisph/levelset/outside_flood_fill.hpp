@@ -4,8 +4,8 @@
 // face neighbours that are not core until nothing changes. Holes in the surface smaller than
 // the coarse cells are covered by core cells, so the outside cannot flow in through them and
 // the sign of every cell away from the surface comes from connectivity, not from the normals
-// of a broken surface. The fixed point is unique, so the result does not depend on the order
-// in which threads update cells.
+// of a broken surface. Each sweep reads one array and writes another (no cell is read while
+// another thread writes it), so the sweeps are race-free and identical on every policy.
 
 #include <cstdint>
 
@@ -29,13 +29,14 @@ struct SeedOutsideFromBorder {
   }
 };
 
-// One sweep; returns 1 for a cell that turned outside. Updates in place: a cell only ever
-// changes from inside to outside, so reading a neighbour's old or new value is equally valid.
+// One sweep from `tags` into `result`; returns 1 for a cell that turned outside.
 template <int D>
 struct SpreadOutside {
   PackageGrid<D> grid;
-  View<CellTag> tags;
+  View<const CellTag> tags;
+  View<CellTag> result;
   UNISPH_HOST_DEVICE Index operator()(Index c) const {
+    result[c] = tags[c];
     if (tags[c] != CellTag::inside) return 0;
     const Vec<int, D> cell = grid.coordinates(c);
     for (int k = 0; k < D; ++k)
@@ -43,7 +44,7 @@ struct SpreadOutside {
         Vec<int, D> other = cell;
         other[k] += side;
         if (grid.contains(other) && tags[grid.linear(other)] == CellTag::outside) {
-          tags[c] = CellTag::outside;
+          result[c] = CellTag::outside;
           return 1;
         }
       }
