@@ -1,7 +1,10 @@
 #!/usr/bin/env python3
 """Table of medians from views_bench JSON (run with --benchmark_repetitions=N --benchmark_format=json).
 
-Usage: views_bench_report.py views.json [more.json ...]
+Usage: views_bench_report.py [--seq-cpu-time] views.json [more.json ...]
+--seq-cpu-time: the seq rows from the process's CPU time instead of wall-clock time (on a
+machine shared with other jobs, where a single-threaded loop gets only part of a core; the par
+and device rows stay wall-clock, the only time that counts for them).
 Prints one Markdown row per case and policy: the median time of the hand-written loop, of the
 view's iterator loop, of View::for_each and, where the case has them, of the engine's direct
 neighbour search ("direct") and of a plain per-package loop ("plain"), their ratios to the hand
@@ -13,7 +16,9 @@ import sys
 from collections import defaultdict
 
 
-def main(paths):
+def main(args):
+    seq_cpu = "--seq-cpu-time" in args
+    paths = [a for a in args if a != "--seq-cpu-time"]
     times = defaultdict(list)
     checksums = defaultdict(set)
     context = {}
@@ -27,10 +32,12 @@ def main(paths):
             name = b["run_name"] if "run_name" in b else b["name"]
             name = name.split("/real_time")[0]
             case, loop, policy = name.split("/")[:3]
-            times[(case, policy, loop)].append(b["real_time"] * {"ms": 1e-3, "us": 1e-6, "ns": 1e-9}[b["time_unit"]])
+            key = "cpu_time" if seq_cpu and policy == "seq" else "real_time"
+            times[(case, policy, loop)].append(b[key] * {"ms": 1e-3, "us": 1e-6, "ns": 1e-9}[b["time_unit"]])
             checksums[(case, policy)].add(b.get("checksum"))
     print(f"host: {context.get('host_name', '?')}, {context.get('num_cpus', '?')} CPUs, "
-          f"unisph_host_threads={context.get('unisph_host_threads', '?')}, gpu: {context.get('unisph_gpu', '?')}")
+          f"unisph_host_threads={context.get('unisph_host_threads', '?')}, gpu: {context.get('unisph_gpu', '?')}"
+          + (", seq rows: CPU time" if seq_cpu else ""))
     print()
     loops = [l for l in ("view", "for_each", "nested", "direct", "plain") if any(k[2] == l for k in times)]
     head = ["case", "policy", "reps", "hand (ms)"]

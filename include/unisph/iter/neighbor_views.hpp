@@ -42,12 +42,15 @@ UNISPH_HOST_DEVICE inline void neighbors_in_block(const SearchGrid<T, D>& grid, 
   using Particles = View<CellParticles<T, D, Order>, direction::Forward, collectivity::None, CompileTimeTuple<>>;
   using Cells = View<CellBlock<T, D, Order>, direction::Forward, collectivity::None, CompileTimeTuple<>, Particles>;
   const Cells cells(CellBlock<T, D, Order>::around(arrays, grid.cells, cell, grid.reach));
+  // One worker, offset 0 and jump 1 at both levels: every trip is an element, no slot is padding,
+  // so the body does not test the slot (a test the compilers kept for every candidate).
   cells.for_each([&](SlotRef<const Vec<T, D>> slot) {
-    if (!slot) return;
-    const Index j = particle_index(arrays.positions, slot);
-    if (inner && j == i) return;
     NeighborPair<T, D> pair;
     if (grid.test_pair(xi, *slot, pair.r_ij, pair.squared_distance)) {
+      // The index only for the few candidates within the cutoff (it costs a division by the
+      // size of a position); i itself passes the test and is skipped here, as by the direct search.
+      const Index j = particle_index(arrays.positions, slot);
+      if (inner && j == i) return;
       complete_pair(pair);
       f(j, static_cast<const NeighborPair<T, D>&>(pair));
     }
