@@ -10,14 +10,14 @@
 #     build/nbopt-cuda/tests/neighbor/test_neighbor_relation build/nbopt-cuda/tests/neighbor/test_cell_linked_list \
 #     build/nbopt-cuda/tests/neighbor/test_particle_sorter
 # Writes everything under $OUT and prints a short table last. Each stage has a time limit so
-# that the whole stays under 8 minutes.
+# that the whole stays under 8 minutes (3 x 60 + 210 + 3 x 55 s at most).
 set -u
 B=devbundle-nbopt/run
 OUT=${OUT:-/tmp/nbopt}
 mkdir -p "$OUT"
 nvidia-smi --query-gpu=name,clocks.sm,clocks.max.sm,temperature.gpu --format=csv,noheader
 for t in test_neighbor_relation test_cell_linked_list test_particle_sorter; do
-  timeout 120 $B $t --gtest_filter='*/gpu.*' > "$OUT/$t.log" 2>&1
+  timeout 60 $B $t --gtest_filter='*/gpu.*' > "$OUT/$t.log" 2>&1
   echo "$t rc=$? $(grep -E '^\[  (PASSED|FAILED) ' "$OUT/$t.log" | tr '\n' ' ')"
 done
 cuobjdump -res-usage devbundle-nbopt/bin/neighbor_bench > "$OUT/neighbor_bench.res" 2>&1
@@ -25,12 +25,12 @@ dev='ParallelDevicePolicy'
 direct="DensityPass<$dev, SearchMethod::direct>/n:(4|10)000000/order:[02]/split:[12]"
 stored="(DensityPass<$dev, SearchMethod::stored>|StoredListBuild<$dev>)/n:(4|10)000000/order:[02]/split:[12]"
 build="CellListBuild<$dev>/n:10000000/order:[012]/split:1"
-timeout 240 $B neighbor_bench --benchmark_filter="($direct|$stored|$build)" \
+timeout 210 $B neighbor_bench --benchmark_filter="($direct|$stored|$build)" \
   --benchmark_repetitions=2 --benchmark_format=json --benchmark_out="$OUT/nb.json" > "$OUT/nb.txt" 2>&1
 echo "neighbor_bench rc=$?"
 # Profiles: one launch each, the clocks left alone (METHOD.md).
 prof() {  # name, kernel regex, launches to skip, launches, benchmark filter
-  timeout 75 ncu --clock-control none --kernel-name-base demangled -k "regex:$2" --launch-skip "$3" --launch-count "$4" \
+  timeout 55 ncu --clock-control none --kernel-name-base demangled -k "regex:$2" --launch-skip "$3" --launch-count "$4" \
     --section SpeedOfLight --section MemoryWorkloadAnalysis --section Occupancy --section WarpStateStats \
     --section LaunchStats --section SchedulerStats \
     $B neighbor_bench --benchmark_filter="$5" > "$OUT/ncu_$1.txt" 2>&1
