@@ -19,7 +19,9 @@
 //    disk (disks overhang edges by up to 2 dx, so where a removed feature was near an edge the
 //    new distance can be short of the true one: 0.6 dx at most on the fin test). Points whose
 //    foot lies within about 1.5 spacings of a removed point do not sample the surface.
-//    Memory while it runs (only when something was removed): four vectors per data point.
+//    Only packages within three package neighbourhoods (12 spacings, wider than the band) of a
+//    removed point may change; the sweeps run three packages farther. Memory while it runs (only when something was removed): four
+//    vectors per data point.
 //
 // Features of half-thickness below dx / 2 are always removed, those thicker than 2 dx never; in
 // between it depends on where the lattice falls. Without a removed point the layer is unchanged.
@@ -99,6 +101,37 @@ struct CopyValues {
   View<const T> from;
   View<T> to;
   UNISPH_HOST_DEVICE void operator()(Index i) const { to[i] = from[i]; }
+};
+
+// Packages holding a removed point (the start of the region that cleaning may change).
+template <int D>
+struct FlagRemovedPackages {
+  View<const std::int8_t> fate;
+  View<std::uint8_t> region;
+  UNISPH_HOST_DEVICE void operator()(std::uint32_t package) const {
+    bool any = false;
+    for (int l = 0; l < package_points<D>; ++l) any = any || fate[Index(package) * package_points<D> + l] != 0;
+    region[package] = any ? 1 : 0;
+  }
+};
+// One dilation of the region by the package neighbourhood (reads one array, writes another).
+template <int D>
+struct GrowRegion {
+  View<const PackageNeighbourhood<D>> neighbourhood;
+  View<const std::uint8_t> region;
+  View<std::uint8_t> result;
+  UNISPH_HOST_DEVICE void operator()(std::uint32_t package) const {
+    bool any = false;
+    for (int s = 0; s < neighbourhood_size<D>; ++s) {
+      const std::uint32_t other = neighbourhood[package].package[s];
+      any = any || (other >= far_field_packages && region[other] != 0);
+    }
+    result[package] = any ? 1 : 0;
+  }
+};
+struct ZeroFlags {
+  View<std::uint8_t> value;
+  UNISPH_HOST_DEVICE void operator()(Index i) const { value[i] = 0; }
 };
 
 struct CountNonZero {
@@ -192,6 +225,7 @@ struct Redistance {
   View<const std::uint64_t> package_cell;
   View<const PackageNeighbourhood<D>> neighbourhood;
   View<const std::int8_t> state;
+  View<const std::uint8_t> region;
   View<const Vec<Real, D>> foot_in, normal_in;
   View<Vec<Real, D>> foot_out, normal_out;
   Real disk_radius, unassigned;
@@ -200,11 +234,13 @@ struct Redistance {
     constexpr int points = package_points<D>;
     const Index i = offset + j;
     const std::uint32_t package = std::uint32_t(i / points);
+    if (region[package] == 0) return 0;
     const int local_point = int(i % points);
     const Vec<Real, D> x = grid.data_position(grid.coordinates(package_cell[package]), local_point);
     const Vec<int, D> local = local_coordinates<D>(local_point);
-    Real best = unassigned;
+    // The own record wins ties, so a distance only ever decreases and the sweeps end.
     Vec<Real, D> best_foot = foot_in[i], best_normal = normal_in[i];
+    Real best = best_foot[0] < unassigned ? distance_to_disk<D>(x, best_foot, best_normal, disk_radius) : unassigned;
     for (int s = 0; s < neighbourhood_size<D>; ++s) {
       const DataPointAddress a = neighbour_index_shift<D>(around<D>(local, s), neighbourhood[package]);
       if (a.package < far_field_packages) continue;
@@ -236,10 +272,12 @@ struct WriteBack {
   PackageGrid<D> grid;
   View<const std::uint64_t> package_cell;
   View<const std::int8_t> state, fate;
+  View<const std::uint8_t> region;
   View<const Vec<Real, D>> foot, normal;
   View<Real> phi;
   Real disk_radius, unassigned, slack;
   UNISPH_HOST_DEVICE void operator()(std::uint32_t package, int local_point) const {
+    if (region[package] == 0) return;
     const Index i = Index(package) * package_points<D> + local_point;
     const Real side = Real(state[i]);
     const Real old = phi[i] >= Real(0) ? phi[i] : -phi[i];
@@ -275,6 +313,23 @@ Index clean_small_features(P policy, Mesh& mesh, DiscreteVariable<Real>& phi_var
   const Index removed = particle_reduce(policy, data_points, Sum<Index>{}, k::CountNonZero{fate.read(policy), offset});
   if (removed == 0) return 0;
 
+  // The region cleaning may change: packages within three package neighbourhoods (12 spacings,
+  // more than the band is wide) of a removed point.
+  DiscreteVariable<std::uint8_t> region("SmallFeatureRegion", mesh.packages()), grown("SmallFeatureGrown", mesh.packages());
+  particle_for(policy, Index(far_field_packages), k::ZeroFlags{region.write(policy)});
+  particle_for(policy, Index(far_field_packages), k::ZeroFlags{grown.write(policy)});
+  package_for(policy, mesh, k::FlagRemovedPackages<D>{fate.read(policy), region.read_write(policy)});
+  package_for(policy, mesh, k::GrowRegion<D>{mesh.neighbourhood.read(policy), region.read(policy), grown.read_write(policy)});
+  package_for(policy, mesh, k::GrowRegion<D>{mesh.neighbourhood.read(policy), grown.read(policy), region.read_write(policy)});
+  package_for(policy, mesh, k::GrowRegion<D>{mesh.neighbourhood.read(policy), region.read(policy), grown.read_write(policy)});
+  // The sweeps run three packages farther, so that the records arriving at the region's border
+  // come from the samples nearest to it, which may lie outside.
+  DiscreteVariable<std::uint8_t> swept("SmallFeatureSwept", mesh.packages());
+  particle_for(policy, Index(far_field_packages), k::ZeroFlags{swept.write(policy)});
+  package_for(policy, mesh, k::GrowRegion<D>{mesh.neighbourhood.read(policy), grown.read(policy), swept.read_write(policy)});
+  package_for(policy, mesh, k::GrowRegion<D>{mesh.neighbourhood.read(policy), swept.read(policy), region.read_write(policy)});
+  package_for(policy, mesh, k::GrowRegion<D>{mesh.neighbourhood.read(policy), region.read(policy), swept.read_write(policy)});
+
   // A value no distance in the layer reaches (the far field holds two coarse cell sizes).
   const Real unassigned = Real(1e30);
   DiscreteVariable<std::int8_t> state("SmallFeatureState", total);
@@ -309,13 +364,13 @@ Index clean_small_features(P policy, Mesh& mesh, DiscreteVariable<Real>& phi_var
     const Index changed = particle_reduce(
         policy, data_points, Sum<Index>{},
         k::Redistance<D>{grid, mesh.package_cell.read(policy), mesh.neighbourhood.read(policy), state.read(policy),
-                         foot_in.read(policy), normal_in.read(policy), foot_out.read_write(policy),
+                         swept.read(policy), foot_in.read(policy), normal_in.read(policy), foot_out.read_write(policy),
                          normal_out.read_write(policy), disk_radius, unassigned, offset});
     in_a = !in_a;
     if (changed == 0) break;
   }
   data_point_for(policy, mesh,
-                 k::WriteBack<D>{grid, mesh.package_cell.read(policy), state.read(policy), fate.read(policy),
+                 k::WriteBack<D>{grid, mesh.package_cell.read(policy), state.read(policy), fate.read(policy), grown.read(policy),
                                  (in_a ? foot_a : foot_b).read(policy), (in_a ? normal_a : normal_b).read(policy),
                                  phi_variable.read_write(policy), disk_radius, unassigned, dx * Real(0.125)});
   fence(policy);
