@@ -34,7 +34,8 @@
 // for_each(f) visits the same slots as the iterators, as one plain loop per level: the fast
 // form (the iterator loop measures 1.1 to 1.9 times the hand-written loop, for_each within a
 // few per cent; docs/views.md). children() is the range of the child views, for a range-for per
-// level (`for (auto frame : view.children()) for (auto slot : frame)`), as fast as for_each.
+// level (`for (auto frame : view.children()) for (auto slot : frame)`), which compilers treat
+// as nested loops (measured on the CPU: as fast as the hand loop over all particles).
 
 #include <cstddef>
 #include <cstdint>
