@@ -50,7 +50,7 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
       T rate = T(0);
       inner.for_each_neighbor(i, [&](Index j, const NeighborPair<T, D>& pair) {
         const T r = pair.distance();
-        const Vec<T, D> e = pair.r_ij * (T(1) / r);
+        const Vec<T, D>& e = pair.direction();
         const T divergence = dot(v_i - velocity[j], e) + dissipation * riemann.velocity_dissipation(p_i, pressure[j]);
         rate += divergence * kernel.derivative(r) * mass[j] / density[j];
       });
@@ -58,7 +58,7 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
       const T rho_i = density[i];
       contact.for_each_neighbor(i, [&](Index w, const NeighborPair<T, D>& pair) {
         const T r = pair.distance();
-        const Vec<T, D> e = pair.r_ij * (T(1) / r);
+        const Vec<T, D>& e = pair.direction();
         const Vec<T, D> n = wall_normal[w];
         const T p_w = wall_dummy_pressure(p_i, rho_i, a0, pair.r_ij);
         const T divergence = T(2) * dot(v_i, n) * dot(n, e) + dissipation * riemann.velocity_dissipation(p_i, p_w);

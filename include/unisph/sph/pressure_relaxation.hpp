@@ -85,7 +85,7 @@ class PressureRelaxation : public InteractionDynamics<PressureRelaxation<T, D>> 
       Vec<T, D> force{};  // sum of 2 p* dW V_j e_ij
       inner.for_each_neighbor(i, [&](Index j, const NeighborPair<T, D>& pair) {
         const T r = pair.distance();
-        const Vec<T, D> e = pair.r_ij * (T(1) / r);
+        const Vec<T, D>& e = pair.direction();
         const T jump = -dot(v_i - velocity[j], e);
         const T weight = kernel.derivative(r) * mass[j] / density[j];
         force += e * (riemann.twice_interface_pressure(p_i, pressure[j], jump) * weight);
@@ -93,7 +93,7 @@ class PressureRelaxation : public InteractionDynamics<PressureRelaxation<T, D>> 
       const Vec<T, D> a0 = prior_acceleration[i];
       contact.for_each_neighbor(i, [&](Index w, const NeighborPair<T, D>& pair) {
         const T r = pair.distance();
-        const Vec<T, D> e = pair.r_ij * (T(1) / r);
+        const Vec<T, D>& e = pair.direction();
         const Vec<T, D> n = wall_normal[w];
         const T p_w = wall_dummy_pressure(p_i, rho_i, a0, pair.r_ij);
         const T jump = -T(2) * dot(v_i, n);
