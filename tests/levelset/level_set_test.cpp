@@ -322,9 +322,8 @@ TYPED_TEST(LevelSetTest, ProbesAcrossLayersKeepTheSign) {
 
 // A closed mesh with 1, 5 and 20 triangles deleted: the sign right at >= 99.9 % of random
 // points in 1.3 times its box farther than 2 dx from the deleted triangles; the reference is
-// the full mesh's winding number. The sign before cleaning (cleaning changes the shape on
-// purpose: on teapot.stl at this spacing it removes 162 data points, and 8 more of the 20000
-// points then differ from the mesh).
+// the full mesh's winding number. The sign before cleaning: cleaning changes the shape on
+// purpose (teapot.stl has features thinner than this spacing), so it may differ from the mesh.
 template <class P>
 void expect_closed_inside_despite_holes(P policy, const std::string& file, bool winding, std::size_t samples) {
   const TriangleMesh full = load_triangle_mesh(test_data("geometry/" + file)).mesh;

@@ -2,10 +2,12 @@
 // Small-feature cleaning of the finest layer (the idea of Yu et al. 2023, re-distancing near
 // features the data spacing does not resolve; our own formulation):
 //
-// 1. Mark. A data point is resolved when |phi| >= dx / 2. A point with |phi| < dx / 2 (near the
-//    surface) lies on a resolved surface when its 3^D neighbourhood holds resolved points of both
-//    signs: next to a flat wall the diagonal neighbour towards each side is at least one spacing
-//    farther from it (|n|_1 >= 1), so both exist. Where one side is missing, the point belongs to
+// 1. Mark. A data point is resolved when |phi| >= 0.45 dx. A point with |phi| < 0.45 dx (near
+//    the surface) lies on a resolved surface when its 3^D neighbourhood holds resolved points of
+//    both signs: next to a flat wall the diagonal neighbour towards each side is at least one
+//    spacing farther from it (|n|_1 >= 1), so both exist, with 0.1 dx to spare (0.45, not 0.5:
+//    walls that lie half-way between lattice planes give |phi| = dx / 2 to round-off, and a
+//    threshold there would decide by the last bit). Where one side is missing, the point belongs to
 //    a feature thinner than about one spacing (a fin, a thin gap): it is removed and takes the
 //    side that is present (outside when neither is).
 // 2. Sample the kept surface. Every kept point with |phi| < dx records its foot x - phi n
@@ -23,7 +25,7 @@
 //    removed point may change; the sweeps run three packages farther. Memory while it runs (only when something was removed): four
 //    vectors per data point.
 //
-// Features of half-thickness below dx / 2 are always removed, those thicker than 2 dx never; in
+// Features of half-thickness below 0.45 dx are always removed, those thicker than 2 dx never; in
 // between it depends on where the lattice falls. Without a removed point the layer is unchanged.
 
 #include <cmath>
@@ -76,7 +78,7 @@ struct MarkUnresolved {
   View<const Real> phi;
   View<const PackageNeighbourhood<D>> neighbourhood;
   View<std::int8_t> fate;
-  Real resolved;  // dx / 2
+  Real resolved;  // 0.45 dx
   UNISPH_HOST_DEVICE void operator()(std::uint32_t package, int local_point) const {
     constexpr int points = package_points<D>;
     const Index i = Index(package) * points + local_point;
@@ -309,7 +311,7 @@ Index clean_small_features(P policy, Mesh& mesh, DiscreteVariable<Real>& phi_var
   particle_for(policy, offset, k::ZeroBytes{fate.write(policy)});
   data_point_for(policy, mesh,
                  k::MarkUnresolved<D>{phi_variable.read(policy), mesh.neighbourhood.read(policy), fate.write(policy),
-                                      dx * Real(0.5)});
+                                      dx * Real(0.45)});
   const Index removed = particle_reduce(policy, data_points, Sum<Index>{}, k::CountNonZero{fate.read(policy), offset});
   if (removed == 0) return 0;
 
