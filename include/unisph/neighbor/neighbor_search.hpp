@@ -29,7 +29,6 @@
 
 #include "unisph/neighbor/cell_linked_list.hpp"
 #include "unisph/neighbor/neighbor_pair.hpp"
-#include "unisph/iter/neighbor_views.hpp"
 
 // Host compilers: inline everything a neighbour loop calls, the kernel's lambda included, so
 // the pair's values stay in registers (GCC does not inline a lambda called from both the
@@ -74,18 +73,13 @@ struct NeighborSearch {
     for (std::uint64_t k = 0; k < n; ++k, slot += list_slot_stride) f(Index(list_neighbors[slot]), list_pairs[slot]);
   }
 
-  // With cells as wide as the cutoff (reach 1, what the relations build) the walk is the
-  // hierarchical view of the 3^D cells around i's cell over the particles of each cell
-  // (iter::for_each_neighbor, issue 8): the same pairs in the same order, bit for bit
-  // (tests/iter/neighbor_views_test.cpp), and measured no slower than the row walk below
-  // (docs/views.md). With smaller cells the row walk stays: it skips the cells of the larger
-  // block that lie beyond the cutoff, which the view walk would visit.
+  // The row walk below, not the hierarchical view walk (iter::for_each_neighbor, which gives the
+  // same pairs in the same order): with the view walk inside the SPH kernels the GPU dam break
+  // ran 25-30 % slower (H200, bench/sph, A/B/A in one call: 3D dx 0.0125 float 1.77e8 against
+  // 2.45e8 fluid-particle steps/s; docs/views.md), although in the plain density pass of
+  // views_bench it is within 5 %.
   template <class F>
   UNISPH_NEIGHBOR_LOOP UNISPH_HOST_DEVICE void for_each_direct_neighbor(Index i, F&& f) const {
-    if (targets.grid.reach == 1) {
-      iter::for_each_neighbor(*this, i, f);
-      return;
-    }
     for_each_direct_candidate(i, [&](Index j, const Vec<T, D>& xi, const Vec<T, D>& xj) {
       NeighborPair<T, D> pair;
       if (targets.grid.test_pair(xi, xj, pair.r_ij, pair.squared_distance)) {
