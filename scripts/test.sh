@@ -30,7 +30,9 @@ ctest --preset default -j "$jobs" -LE validation
 # meet every bound yet (issue 4 is open), so their results are printed here but do not decide
 # the outcome; once the solver is validated this stage joins the gate above.
 stage "SPH validation against experiments (reported, not gating yet)"
-ctest --preset default -L validation --output-on-failure || echo "validation: some comparisons are outside their bounds (see above and docs/validation.md)"
+# Only the SPH runs: the particle-relaxation validation (test_relaxation_validation, also labelled
+# validation) takes hours on two cores and is run by hand and on the GPU (docs/particle_generation.md).
+ctest --preset default -L validation -R '^test_sph_validation' --output-on-failure || echo "validation: some comparisons are outside their bounds (see above and docs/validation.md)"
 
 stage "configure + build (asan preset)"
 cmake --preset asan
