@@ -37,7 +37,9 @@ void relax_and_check(P policy, const std::string& file, Real dx, int iterations,
   EXPECT_LE(relaxed.largest_phi, 0.1 * double(dx));
   EXPECT_EQ(relaxed.particles, lattice.particles);
   EXPECT_TRUE(relaxed.ids_are_a_permutation);
-  if (check_volume) EXPECT_NEAR(relaxed.total_volume / g.enclosed, 1.0, 0.01);
+  if (check_volume) {
+    EXPECT_NEAR(relaxed.total_volume / g.enclosed, 1.0, 0.01);
+  }
 }
 
 UNISPH_POLICY_TEST_SUITE(RelaxationValidation);
