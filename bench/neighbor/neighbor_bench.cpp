@@ -24,6 +24,7 @@
 
 #include "unisph/dynamics/local_dynamics.hpp"
 #include "unisph/neighbor/inner_relation.hpp"
+#include "unisph/neighbor/pair_counts.hpp"
 #include "unisph/neighbor/particle_sorter.hpp"
 #include "unisph/particles/body.hpp"
 
@@ -81,18 +82,6 @@ class DensitySummation : public InteractionDynamics<DensitySummation> {
   Index count_;
 };
 
-struct CountCandidates {
-  NeighborSearch<T, D> search;
-  UNISPH_HOST_DEVICE std::uint64_t operator()(Index i) const { return search.candidate_count(i); }
-};
-struct CountNeighbors {
-  NeighborSearch<T, D> search;
-  UNISPH_HOST_DEVICE std::uint64_t operator()(Index i) const {
-    std::uint64_t n = 0;
-    search.for_each_direct_neighbor(i, [&](Index, const NeighborPair<T, D>&) { ++n; });
-    return n;
-  }
-};
 struct ReadValue {
   View<const T> v;
   UNISPH_HOST_DEVICE double operator()(Index i) const { return double(v[i]); }
@@ -168,8 +157,8 @@ struct Case {
     body.positions().assign(lattice(side, order, split));
     cells.build(policy);
     const NeighborSearch<T, D> direct = relation.direct_search(policy);
-    candidates = particle_reduce(policy, n, Sum<std::uint64_t>{}, CountCandidates{direct});
-    neighbors = particle_reduce(policy, n, Sum<std::uint64_t>{}, CountNeighbors{direct});
+    candidates = particle_reduce(policy, n, Sum<std::uint64_t>{}, CandidateCount<T, D>{direct});
+    neighbors = particle_reduce(policy, n, Sum<std::uint64_t>{}, NeighborCount<T, D>{direct});
     relation.update(policy);
     fence(policy);
   }

@@ -10,6 +10,7 @@
 #include "unisph/neighbor/cell_linked_list.hpp"
 #include "unisph/neighbor/contact_relation.hpp"
 #include "unisph/neighbor/inner_relation.hpp"
+#include "unisph/neighbor/pair_counts.hpp"
 #include "unisph/neighbor/particle_sorter.hpp"
 #include "unisph/sph/density_relaxation.hpp"
 #include "unisph/sph/density_summation.hpp"
@@ -23,23 +24,6 @@
 
 namespace unisph::sph {
 
-namespace solver_detail {
-// Pair counts for benchmarks (named functors: device code cannot take host lambdas).
-template <class T, int D>
-struct CountCandidates {
-  NeighborSearch<T, D> search;
-  UNISPH_HOST_DEVICE std::uint64_t operator()(Index i) const { return search.candidate_count(i); }
-};
-template <class T, int D>
-struct CountNeighbors {
-  NeighborSearch<T, D> search;
-  UNISPH_HOST_DEVICE std::uint64_t operator()(Index i) const {
-    std::uint64_t n = 0;
-    search.for_each_direct_neighbor(i, [&](Index, const NeighborPair<T, D>&) { ++n; });
-    return n;
-  }
-};
-}  // namespace solver_detail
 
 template <class T, int D>
 struct WeaklyCompressibleSolver<T, D>::State {
@@ -381,8 +365,8 @@ struct WeaklyCompressibleSolver<T, D>::State {
     visit_policy(policy, [&](auto p) {
       const Index n = fluid.size();
       for (const NeighborSearch<T, D>& s : {inner.direct_search(p), contact.direct_search(p)}) {
-        c.candidate_pairs += particle_reduce(p, n, Sum<std::uint64_t>{}, solver_detail::CountCandidates<T, D>{s});
-        c.neighbor_pairs += particle_reduce(p, n, Sum<std::uint64_t>{}, solver_detail::CountNeighbors<T, D>{s});
+        c.candidate_pairs += particle_reduce(p, n, Sum<std::uint64_t>{}, CandidateCount<T, D>{s});
+        c.neighbor_pairs += particle_reduce(p, n, Sum<std::uint64_t>{}, NeighborCount<T, D>{s});
       }
     });
     return c;
