@@ -51,6 +51,24 @@ struct SphereShape {
   Real exact(const Vec<Real, D>& p) const { return norm(p - centre) - radius; }
 };
 
+// A hollow sphere: solid between radius inner and outer, so the cavity r < inner is outside.
+struct ShellShape {
+  Vec3 centre;
+  Real inner, outer;
+  UNISPH_HOST_DEVICE AnalyticNearest nearest(const Vec3& p) const {
+    Real r2 = 0;
+    for (int k = 0; k < 3; ++k) {
+      const Real d = p[k] - centre[k];
+      r2 = uncontracted::add(r2, uncontracted::mul(d, d));
+    }
+    const Real r = std::sqrt(r2), mid = Real(0.5) * (inner + outer), half = Real(0.5) * (outer - inner);
+    const Real s = std::fabs(r - mid) - half;
+    return {uncontracted::mul(s, s), s};
+  }
+  UNISPH_HOST_DEVICE int sign(const Vec3&, const AnalyticNearest& n) const { return n.distance >= 0 ? 1 : -1; }
+  Real exact(const Vec3& p) const { return std::fabs(norm(p - centre) - Real(0.5) * (inner + outer)) - Real(0.5) * (outer - inner); }
+};
+
 struct BoxShape {
   Vec3 centre, half;
   UNISPH_HOST_DEVICE AnalyticNearest nearest(const Vec3& p) const {
@@ -382,6 +400,76 @@ TYPED_TEST(LevelSetTest, LeakingSphereStillHasAClosedInside) {
 
 TYPED_TEST(LevelSetTest, LeakingTeapotStillHasAClosedInside) {
   expect_closed_inside_despite_holes(this->policy, "teapot.stl", true, 20000);
+}
+
+// Regions enclosed by the surface but outside the shape: the holes of a 2D plate (one with an
+// island in it) and the cavity of a hollow sphere. Their cells away from the band take the side
+// their own cells' signs vote for, not "inside" because the outside cannot reach them from the
+// border. The sign of the probed phi is checked against the exact one (even-odd rule, or the
+// analytic shell) at points farther than a data spacing from the surface over the whole grid,
+// and at named points: the middle of each hole, the material, the island, the far outside.
+bool inside_polygons(const PolygonSet& polygons, const Vec<double, 2>& p, double& distance) {
+  double best = std::numeric_limits<double>::max();
+  bool inside = false;
+  for (std::size_t loop = 0; loop + 1 < polygons.loop_start.size(); ++loop) {
+    const std::uint32_t begin = polygons.loop_start[loop], end = polygons.loop_start[loop + 1];
+    for (std::uint32_t i = begin; i < end; ++i) {
+      const Vec<double, 2> a = polygons.vertices[i], c = polygons.vertices[i + 1 < end ? i + 1 : begin];
+      const Vec<double, 2> e = c - a;
+      const double t = std::clamp(dot(p - a, e) / dot(e, e), 0.0, 1.0);
+      best = std::min(best, squared_norm(p - (a + e * t)));
+      if ((a[1] > p[1]) != (c[1] > p[1]) && p[0] < a[0] + (p[1] - a[1]) / (c[1] - a[1]) * e[0]) inside = !inside;
+    }
+  }
+  distance = std::sqrt(best);
+  return inside;
+}
+
+TYPED_TEST(LevelSetTest, HolesAndCavitiesAreOutside) {
+  const PolygonSet polygons = read_polygons(test_data("geometry/plate_with_holes.poly")).polygons;
+  PolygonSearch search(polygons);
+  const Vec<Real, 2> lo{{0, 0}}, hi{{15, 10}};
+  for (const Real dx : {Real(0.05), Real(0.1), Real(0.2)}) {
+    MultiResolutionLevelSet<2> level_set(this->policy, search.view(this->policy), lo, hi, dx);
+    // hole 1 (square 1..4), hole 2 beside the island, the island, the material, the far outside
+    const std::vector<Vec<Real, 2>> named{Vec<Real, 2>{{2.5, 2.5}}, Vec<Real, 2>{{6.4, 4.6}}, Vec<Real, 2>{{7.5, 2.5}},
+                                          Vec<Real, 2>{{5.0, 2.0}}, Vec<Real, 2>{{11.0, 6.0}}};
+    const std::vector<int> named_sign{1, 1, -1, -1, 1};
+    std::vector<Vec<Real, 2>> points = random_points<2>(Vec<Real, 2>{{-2, -2}}, Vec<Real, 2>{{17, 12}}, 20000, 11);
+    points.insert(points.begin(), named.begin(), named.end());
+    std::vector<Real> phi;
+    std::vector<Vec<Real, 2>> normal;
+    probe(this->policy, level_set, points, phi, normal);
+    for (std::size_t i = 0; i < named.size(); ++i)
+      EXPECT_EQ(phi[i] > 0 ? 1 : -1, named_sign[i]) << "dx " << dx << " at (" << named[i][0] << ", " << named[i][1]
+                                                     << "): phi " << phi[i];
+    Index wrong = 0, checked = 0;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      double distance = 0;
+      const bool inside = inside_polygons(polygons, Vec<double, 2>{{double(points[i][0]), double(points[i][1])}}, distance);
+      if (distance <= double(dx)) continue;
+      ++checked;
+      wrong += inside != (phi[i] < 0);
+    }
+    EXPECT_GT(checked, 15000u);
+    EXPECT_EQ(wrong, 0u) << "dx " << dx << ": " << wrong << " of " << checked << " points with the wrong sign";
+  }
+
+  const ShellShape shell{Vec3{{0.05, -0.1, 0.02}}, Real(0.5), Real(1)};
+  MultiResolutionLevelSet<3> hollow(this->policy, shell, Vec3::constant(Real(-1)), Vec3::constant(Real(1)), Real(1) / 32);
+  Real worst = 0;
+  for_each_data_point(hollow, [&](int, PackageType, const Vec3& x, Real phi) { worst = std::max(worst, std::fabs(phi - shell.exact(x))); });
+  EXPECT_LT(worst, roundoff);
+  std::vector<Vec3> points = random_points<3>(Vec3::constant(Real(-1.3)), Vec3::constant(Real(1.3)), 20000, 12);
+  points.insert(points.begin(), shell.centre);  // the middle of the cavity
+  std::vector<Real> phi;
+  std::vector<Vec3> normal;
+  probe(this->policy, hollow, points, phi, normal);
+  EXPECT_GT(phi[0], Real(0));
+  Index wrong = 0;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (std::fabs(shell.exact(points[i])) > Real(1) / 32) wrong += (shell.exact(points[i]) < 0) != (phi[i] < 0);
+  EXPECT_EQ(wrong, 0u);
 }
 
 TYPED_TEST(LevelSetTest, TriangleSoupGivesNoNaN) {

@@ -23,6 +23,9 @@ struct RelaxedSetState {
   double mean_error = 0, p99_error = 0, max_error = 0;
   double kernel_sum_within_3_percent = 0;  // share of particles
   double largest_phi = 0;                  // > 0: outside the body
+  // The same error apart for the particles within 2h of the surface and for the others.
+  double surface_mean = 0, surface_max = 0, bulk_mean = 0, bulk_max = 0;
+  Index surface_particles = 0;
   double total_volume = 0;
   bool ids_are_a_permutation = false;
 };
@@ -50,7 +53,17 @@ RelaxedSetState measure_state(P policy, ParticleRelaxation<D>& relaxation) {
     within += std::abs(double(sum[i]) - lattice) <= 0.03 * lattice;
     s.largest_phi = std::max(s.largest_phi, double(phi[i]));
     s.total_volume += double(volume[i]);
+    if (double(phi[i]) > -2 * double(h) && double(phi[i]) < 2 * double(h)) {
+      ++s.surface_particles;
+      s.surface_mean += error[i];
+      s.surface_max = std::max(s.surface_max, error[i]);
+    } else {
+      s.bulk_mean += error[i];
+      s.bulk_max = std::max(s.bulk_max, error[i]);
+    }
   }
+  if (s.surface_particles > 0) s.surface_mean /= double(s.surface_particles);
+  if (residual.size() > s.surface_particles) s.bulk_mean /= double(residual.size() - s.surface_particles);
   s.mean_error /= double(error.size());
   std::sort(error.begin(), error.end());
   s.max_error = error.back();
@@ -67,6 +80,8 @@ inline void print_state(const char* label, const RelaxedSetState& s) {
               "volume %.6f\n",
               label, s.particles, s.mean_error, s.p99_error, s.max_error, s.kernel_sum_within_3_percent,
               s.largest_phi, s.total_volume);
+  std::printf("  %-8s within 2h of the surface: %zu, error mean %.3e max %.3e;  bulk: error mean %.3e max %.3e\n", "",
+              std::size_t(s.surface_particles), s.surface_mean, s.surface_max, s.bulk_mean, s.bulk_max);
 }
 
 // A geometry ready to relax: its level set (spacing dx) and its box.

@@ -5,9 +5,9 @@
 //     reach seq's error and volume;
 //   - the unit sphere (dx = 0.05): the seeded particles hold the mesh's divergence-theorem
 //     volume; after 10 iterations par and the GPU give seq's positions.
-// The reduction factors (100x mean, 30x p99, 10x max) are checked on the longer cases
-// in relaxation_validation_test.cpp (label validation); the bounds here are what was measured,
-// with a margin (docs/particle_generation.md).
+// The reduction factors (100x mean, 30x p99, 10x max) are asserted here on the annulus
+// and on the longer cases in relaxation_validation_test.cpp (label validation)
+// (docs/particle_generation.md).
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -49,14 +49,15 @@ Outcome relax(P policy, const std::string& file, Real dx, int iterations) {
   return o;
 }
 
-// Measured (double, seq and par, 600 iterations): mean 29.4x, p99 45.6x, max 37.0x, kernel sum
-// within 3 % at 97.9 % of the particles, largest phi -5.5e-4 (all inside), area -0.19 %.
+// Measured (double, seq and par, 600 iterations of FIRE): mean 264.8x, p99 156.0x, max 99.9x,
+// kernel sum within 3 % at 100 % of the particles, largest phi -1.4e-2 (all inside), area
+// unchanged. Asserted: the factors (100x, 30x, 10x).
 TYPED_TEST(Relaxation, AnnulusPolygonWithAHole) {
   const Real dx = Real(0.05);
   const Outcome o = relax<2>(this->policy, "annulus.poly", dx, 600);
-  EXPECT_GE(o.lattice.mean_error / o.relaxed.mean_error, 20.0);
+  EXPECT_GE(o.lattice.mean_error / o.relaxed.mean_error, 100.0);
   EXPECT_GE(o.lattice.p99_error / o.relaxed.p99_error, 30.0);
-  EXPECT_GE(o.lattice.max_error / o.relaxed.max_error, 20.0);
+  EXPECT_GE(o.lattice.max_error / o.relaxed.max_error, 10.0);
   EXPECT_GE(o.relaxed.kernel_sum_within_3_percent, 0.95);
   EXPECT_LE(o.relaxed.largest_phi, 0.1 * double(dx));
   EXPECT_EQ(o.relaxed.particles, o.lattice.particles);
@@ -113,6 +114,62 @@ TYPED_TEST(Relaxation, SameAsSeqAfterTenIterations) {
   }
   std::printf("largest position difference from seq after 10 iterations: %.3e\n", worst);
   EXPECT_LE(worst, tolerance);
+}
+
+// A polygon with holes (plate_with_holes.poly: two holes, an island in one, a separate
+// triangle), seeded by the level set's own sign (LevelSetSide) inside the body and around it in
+// a box, then relaxed 30 iterations: inside, no particle lies in a hole or outside farther than
+// 0.1 dx from the material (the polygons' even-odd rule); around, none lies in the material
+// farther than 0.1 dx from its edge and the holes are filled. Before the level set gave enclosed
+// regions the side of their cells' vote, the middle of a hole was inside (phi < 0) and took
+// particles.
+bool inside_polygons(const PolygonSet& polygons, const Vec<double, 2>& p, double& distance) {
+  double best = 1e300;
+  bool inside = false;
+  for (std::size_t loop = 0; loop + 1 < polygons.loop_start.size(); ++loop) {
+    const std::uint32_t begin = polygons.loop_start[loop], end = polygons.loop_start[loop + 1];
+    for (std::uint32_t i = begin; i < end; ++i) {
+      const Vec<double, 2> a = polygons.vertices[i], c = polygons.vertices[i + 1 < end ? i + 1 : begin];
+      const Vec<double, 2> e = c - a;
+      const double t = std::min(1.0, std::max(0.0, dot(p - a, e) / dot(e, e)));
+      best = std::min(best, squared_norm(p - (a + e * t)));
+      if ((a[1] > p[1]) != (c[1] > p[1]) && p[0] < a[0] + (p[1] - a[1]) / (c[1] - a[1]) * e[0]) inside = !inside;
+    }
+  }
+  distance = std::sqrt(best);
+  return inside;
+}
+
+TYPED_TEST(Relaxation, PolygonHolesGetNoParticles) {
+  const Real dx = Real(0.1);
+  RelaxationGeometry<2> g = load_relaxation_geometry<2>(this->policy, test_data("geometry/plate_with_holes.poly"), dx);
+  const PolygonSet polygons = read_polygons(test_data("geometry/plate_with_holes.poly")).polygons;
+  for (const SeedRegion region : {SeedRegion::inside, SeedRegion::outside}) {
+    const bool around = region == SeedRegion::outside;
+    const Box<Real, 2> box = around ? Box<Real, 2>{Vec<Real, 2>{{-0.3, -0.3}}, Vec<Real, 2>{{15.3, 10.3}}} : g.box;
+    ParticleRelaxation<2> relaxation(this->policy, *g.level_set, box, region, dx);
+    RelaxationSettings settings;
+    settings.iterations = 30;
+    relaxation.run(this->policy, settings);
+    const std::vector<Vec<Real, 2>> x = relaxation.positions().to_vector();
+    Index wrong = 0, in_hole_1 = 0;
+    for (const auto& p : x) {
+      double distance = 0;
+      const bool inside = inside_polygons(polygons, Vec<double, 2>{{double(p[0]), double(p[1])}}, distance);
+      wrong += inside == around && distance > 0.1 * double(dx);
+      in_hole_1 += p[0] > Real(1.5) && p[0] < Real(3.5) && p[1] > Real(1.5) && p[1] < Real(3.5);
+    }
+    std::printf("plate with holes, %s: %zu particles, %zu on the wrong side, %zu in the middle of hole 1\n",
+                around ? "around" : "inside", x.size(), std::size_t(wrong), std::size_t(in_hole_1));
+    EXPECT_GT(x.size(), 1000u);
+    EXPECT_EQ(wrong, 0u);
+    // the 2 x 2 middle of hole 1 holds 400 lattice points of spacing 0.1
+    if (around) {
+      EXPECT_GT(in_hole_1, 300u);
+    } else {
+      EXPECT_EQ(in_hole_1, 0u);
+    }
+  }
 }
 
 }  // namespace

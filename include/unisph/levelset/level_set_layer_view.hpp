@@ -92,6 +92,73 @@ struct LevelSetLayerView {
   UNISPH_HOST_DEVICE Vec<Real, D> probe_kernel_gradient(const Vec<Real, D>& x) const {
     return interpolate(kernel_gradient, x);
   }
+  // The kernel integrals (kernel_integrals.hpp) at x by cubic Hermite interpolation of the
+  // weight from the weight and its gradient at the 2^D data points around x (tensor product,
+  // zero cross derivatives): continuous with a continuous gradient across cells and packages,
+  // and the gradient returned is the exact gradient of the weight returned, so that particles
+  // relaxing against them (relaxation_surface.hpp) follow a force with an energy.
+  struct KernelIntegrals {
+    Real weight;
+    Vec<Real, D> gradient;
+  };
+  UNISPH_HOST_DEVICE KernelIntegrals probe_kernel_integrals(const Vec<Real, D>& x) const {
+    Vec<int, D> lower;
+    Vec<Real, D> t;
+    stencil(x, lower, t);
+    const Real spacing = grid.data_spacing;
+    KernelIntegrals result{Real(0), Vec<Real, D>{}};
+    for (int corner = 0; corner < (1 << D); ++corner) {
+      Vec<int, D> point = lower;
+      // Per axis: value basis V and its t-derivative dV, derivative basis B (times the spacing)
+      // and its t-derivative dB.
+      Real V[D], dV[D], B[D], dB[D];
+      for (int k = 0; k < D; ++k) {
+        const int bit = (corner >> k) & 1;
+        point[k] += bit;
+        const Real u = t[k], u2 = u * u, u3 = u2 * u;
+        if (bit == 0) {
+          V[k] = Real(1) - Real(3) * u2 + Real(2) * u3;
+          dV[k] = Real(6) * (u2 - u);
+          B[k] = u - Real(2) * u2 + u3;
+          dB[k] = Real(1) - Real(4) * u + Real(3) * u2;
+        } else {
+          V[k] = Real(3) * u2 - Real(2) * u3;
+          dV[k] = Real(6) * (u - u2);
+          B[k] = u3 - u2;
+          dB[k] = Real(3) * u2 - Real(2) * u;
+        }
+      }
+      const Index at = storage_of(point);
+      const Real f = kernel_weight[at];
+      const Vec<Real, D> g = kernel_gradient[at];
+      // weight: f Π V_k + Σ_m spacing g_m B_m Π_{k≠m} V_k
+      Real all = Real(1);
+      for (int k = 0; k < D; ++k) all *= V[k];
+      Real value = f * all;
+      for (int m = 0; m < D; ++m) {
+        Real product = spacing * g[m] * B[m];
+        for (int k = 0; k < D; ++k)
+          if (k != m) product *= V[k];
+        value += product;
+      }
+      result.weight += value;
+      // d/dx_j of the same: the factor of axis j differentiated (d/dx_j = d/dt_j / spacing)
+      for (int j = 0; j < D; ++j) {
+        Real term = f * dV[j] / spacing;
+        for (int k = 0; k < D; ++k)
+          if (k != j) term *= V[k];
+        for (int m = 0; m < D; ++m) {
+          Real product = g[m] * (m == j ? dB[m] : B[m] * dV[j]);
+          for (int k = 0; k < D; ++k)
+            if (k != m && k != j) product *= V[k];
+          term += product;
+        }
+        result.gradient[j] += term;
+      }
+    }
+    return result;
+  }
+
   // The interpolated normal, made unit again (zero where it vanishes).
   UNISPH_HOST_DEVICE Vec<Real, D> probe_normal(const Vec<Real, D>& x) const {
     const Vec<Real, D> n = interpolate(normal, x);

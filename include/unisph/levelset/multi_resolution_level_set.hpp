@@ -8,8 +8,10 @@
 //
 // Stages, each timed (stage_seconds):
 //   tagging    coarsest layer: every cell core (surface within one cell size of the centre) or
-//              not; the outside flooded in from the grid border through non-core cells, so the
-//              inside is closed even where the surface leaks; finer layers: only the children of
+//              not; the cells without surface take the side of their connected region (the one
+//              at the grid border outside, the others by a vote of their cells' signs), so the
+//              inside is closed even where the surface leaks and 2D holes and 3D cavities are
+//              right (outside_flood_fill.hpp); finer layers: only the children of
 //              coarse cells with packages are evaluated, the others inherit their parent's side;
 //              then inner cells around the core
 //   packages   allocation sorted by Morton key (same layout on every policy and run), the
@@ -125,15 +127,19 @@ class MultiResolutionLevelSet {
     if (level == 0) {
       View<CellTag> tags = decided.write(policy);
       particle_for(policy, cells, TagEveryCell<D, Shape>{shape, grid, tags});
-      particle_for(policy, cells, SeedOutsideFromBorder<D>{grid, tags});
-      // Sweeps between two arrays until one changes nothing: then both hold the result.
-      DiscreteVariable<CellTag> spare("CellSideSweep", cells);
+      // The cells without surface: each region's side (outside_flood_fill.hpp).
+      DiscreteVariable<std::uint32_t> label("CellRegion", cells), spare("CellRegionSweep", cells);
+      DiscreteVariable<int> votes("CellRegionVotes", cells);
+      particle_for(policy, cells, StartRegions<D>{grid, decided.read(policy), label.write(policy), votes.write(policy)});
+      // Sweeps between two arrays until one changes nothing: then both hold the labels.
       for (bool into_spare = true;; into_spare = !into_spare) {
-        DiscreteVariable<CellTag>& from = into_spare ? decided : spare;
-        DiscreteVariable<CellTag>& to = into_spare ? spare : decided;
-        if (particle_reduce(policy, cells, Sum<Index>{}, SpreadOutside<D>{grid, from.read(policy), to.write(policy)}) == 0)
+        DiscreteVariable<std::uint32_t>& from = into_spare ? label : spare;
+        DiscreteVariable<std::uint32_t>& to = into_spare ? spare : label;
+        if (particle_reduce(policy, cells, Sum<Index>{}, MergeRegions<D>{grid, from.read(policy), to.write(policy)}) == 0)
           break;
       }
+      particle_for(policy, cells, VoteRegionSide<D>{decided.read(policy), label.read(policy), votes.read_write(policy)});
+      particle_for(policy, cells, SideOfRegion<D>{label.read(policy), votes.read(policy), decided.read_write(policy)});
     } else {
       LevelSetLayer<D>& coarse = *layers_[level - 1];
       particle_for(policy, cells,

@@ -37,6 +37,14 @@ struct MultiResolutionLevelSetView {
     const int level = resolving_layer(x);
     return level >= 0 ? layer[level].probe_kernel_gradient(x) : Vec<Real, D>{};
   }
+  // Weight and gradient together, C1 and consistent (LevelSetLayerView::probe_kernel_integrals);
+  // where no layer resolves x, the coarsest layer's weight by linear interpolation (the far
+  // field's 0 or 1 there) and no gradient.
+  UNISPH_HOST_DEVICE typename LevelSetLayerView<D>::KernelIntegrals probe_kernel_integrals(const Vec<Real, D>& x) const {
+    const int level = resolving_layer(x);
+    if (level >= 0) return layer[level].probe_kernel_integrals(x);
+    return {layer[0].probe_kernel_weight(x), Vec<Real, D>{}};
+  }
   UNISPH_HOST_DEVICE Vec<Real, D> probe_normal(const Vec<Real, D>& x) const {
     const int level = resolving_layer(x);
     return level >= 0 ? layer[level].probe_normal(x) : Vec<Real, D>{};

@@ -33,13 +33,45 @@ class RelaxationStep : public UpdateDynamics<RelaxationStep<D>> {
     this->invalidate_kernels();
   }
 
+  // FIRE (Bitzek et al. 2006) for the next exec: the velocities mixed towards the residual by
+  // `mixing` (alpha) with `steer` = alpha |v| / |a| (norms over all particles), or dropped when
+  // `restart`; then v += dt a, x += dt v. exec's dt is then FIRE's time step, not β.
+  void set_fire(Real mixing, Real steer, bool restart) {
+    fire_ = true;
+    mixing_ = mixing;
+    steer_ = steer;
+    restart_ = restart;
+    this->invalidate_kernels();
+  }
+  void set_descent() {
+    fire_ = false;
+    this->invalidate_kernels();
+  }
+
   struct Kernel {
     View<Position> position;
     View<Position> velocity;
     View<const Position> residual;
     RelaxationSurface<D> surface;
     Real momentum;
+    bool fire;
+    Real mixing, steer;
+    bool restart;
     UNISPH_HOST_DEVICE void update(Index i, Real step) const {
+      if (fire) {
+        const Position a = residual[i];
+        // On a restart the particle first goes back half of its last move (FIRE 2.0,
+        // Guénolé et al. 2020): the last step overshot the minimum along v; step is then half
+        // the last one, so half the last move is step * v.
+        const Position start = restart ? position[i] - velocity[i] * step : position[i];
+        Position v = restart ? Position{} : velocity[i] * (Real(1) - mixing) + a * steer;
+        v += a * step;
+        const Position moved = start + v * step;
+        const Position bounded = surface.bound(moved);
+        velocity[i] = bounded == moved ? v : Position{};
+        position[i] = bounded;
+        return;
+      }
       // A particle whose residual turned against its motion has passed its minimum along it:
       // it drops the motion (a per-particle restart of the momentum, as in FIRE) instead of
       // oscillating about the minimum.
@@ -53,7 +85,8 @@ class RelaxationStep : public UpdateDynamics<RelaxationStep<D>> {
     }
   };
   Kernel make_kernel(KernelContext& context) {
-    return {context.read_write(position_), context.read_write(velocity_), context.read(residual_), surface_, momentum_};
+    return {context.read_write(position_), context.read_write(velocity_), context.read(residual_), surface_, momentum_,
+            fire_, mixing_, steer_, restart_};
   }
   Index size() const { return position_.size(); }
 
@@ -63,6 +96,30 @@ class RelaxationStep : public UpdateDynamics<RelaxationStep<D>> {
   DiscreteVariable<Position>& residual_;
   Real momentum_;
   RelaxationSurface<D> surface_{};
+  bool fire_ = false;
+  Real mixing_ = Real(0), steer_ = Real(0);
+  bool restart_ = false;
+};
+
+// FIRE's global quantities in one reduction: (Σ a_i·v_i, Σ |a_i|², Σ |v_i|²).
+template <int D>
+class PowerAndNorms : public ReduceDynamics<PowerAndNorms<D>, Sum<Vec<Real, 3>>> {
+ public:
+  PowerAndNorms(DiscreteVariable<Vec<Real, D>>& residual, DiscreteVariable<Vec<Real, D>>& velocity)
+      : residual_(residual), velocity_(velocity) {}
+  struct Kernel {
+    View<const Vec<Real, D>> residual;
+    View<const Vec<Real, D>> velocity;
+    UNISPH_HOST_DEVICE Vec<Real, 3> reduce(Index i, Real) const {
+      return Vec<Real, 3>{{dot(residual[i], velocity[i]), dot(residual[i], residual[i]), dot(velocity[i], velocity[i])}};
+    }
+  };
+  Kernel make_kernel(KernelContext& context) { return {context.read(residual_), context.read(velocity_)}; }
+  Index size() const { return residual_.size(); }
+
+ private:
+  DiscreteVariable<Vec<Real, D>>& residual_;
+  DiscreteVariable<Vec<Real, D>>& velocity_;
 };
 
 // (largest, sum) combined in one pass; the sum makes the mean.

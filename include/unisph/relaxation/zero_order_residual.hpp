@@ -56,9 +56,10 @@ class ZeroOrderResidual : public InteractionDynamics<ZeroOrderResidual<D>> {
         if (r > Real(0)) gradient += pair.r_ij * (kernel.derivative(r) * vj / r);
       });
       const Position x = search.sources[i];
-      gradient += surface.missing_gradient(x);
+      const auto missing = surface.missing(x);
+      gradient += missing.gradient;
       residual[i] = gradient * Real(-2);
-      kernel_sum[i] = sum + surface.missing_weight(x);
+      kernel_sum[i] = sum + missing.weight;
     }
   };
 
