@@ -323,7 +323,7 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
   c.hydrostatic = state == "hydrostatic";
 
   const toml::table& time = r.table(root, "time", true);
-  r.only_keys(time, "time.", {"end", "output_interval", "sort_every", "neighbor_search", "checkpoint_every"});
+  r.only_keys(time, "time.", {"end", "output_interval", "sort_every", "neighbor_search", "checkpoint_every", "cells_per_cutoff"});
   c.end_time = r.positive(time, "time.", "end");
   const double default_interval = c.end_time / 50;
   c.output_interval = r.positive(time, "time.", "output_interval", &default_interval);
@@ -337,6 +337,12 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
   if (c.neighbor_search != "automatic" && c.neighbor_search != "stored" && c.neighbor_search != "direct")
     r.fail(time.get("neighbor_search"), "time.neighbor_search",
            "must be \"automatic\", \"stored\" or \"direct\" (it is \"" + c.neighbor_search + "\")");
+  const long long automatic_cells = 0;
+  const long long cells_per_cutoff = r.integer(time, "time.", "cells_per_cutoff", &automatic_cells);
+  if (cells_per_cutoff < 0 || cells_per_cutoff > 2)
+    r.fail(time.get("cells_per_cutoff"), "time.cells_per_cutoff",
+           "must be 0 (automatic), 1 or 2 (it is " + std::to_string(cells_per_cutoff) + ")");
+  c.cells_per_cutoff = int(cells_per_cutoff);
 
   const toml::table& report = r.table(root, "report", false);
   r.only_keys(report, "report.", {"length", "time", "pressure"});

@@ -26,6 +26,7 @@ void write_case(io::CheckpointWriter& out, const CaseDescription& c) {
   out.u32(std::uint32_t(c.sort_every));
   out.f64(c.checkpoint_every);
   out.string(c.neighbor_search);
+  out.u32(std::uint32_t(c.cells_per_cutoff));
   out.f64(c.length_scale);
   out.f64(c.time_scale);
   out.f64(c.pressure_scale);
@@ -57,6 +58,7 @@ CaseDescription read_case(io::CheckpointReader& in) {
   c.sort_every = int(in.u32());
   c.checkpoint_every = in.f64();
   c.neighbor_search = in.string();
+  c.cells_per_cutoff = int(in.u32());
   c.length_scale = in.f64();
   c.time_scale = in.f64();
   c.pressure_scale = in.f64();
@@ -109,6 +111,7 @@ std::string physics_difference(const CaseDescription& a, const CaseDescription& 
   field("initial.state is hydrostatic", a.hydrostatic, b.hydrostatic);
   field("time.sort_every", a.sort_every, b.sort_every);
   field("time.neighbor_search", a.neighbor_search, b.neighbor_search);
+  field("time.cells_per_cutoff", a.cells_per_cutoff, b.cells_per_cutoff);
   field("number of probes", int(a.probes.size()), int(b.probes.size()));
   for (std::size_t k = 0; k < a.probes.size() && k < b.probes.size(); ++k)
     field("probe.position", a.probes[k].position, b.probes[k].position);

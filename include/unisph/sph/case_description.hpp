@@ -40,6 +40,10 @@ struct CaseDescription {
   // Neighbour search of the fluid relations: "automatic" (stored lists on the CPU, direct
   // search on the GPU, see docs/neighbor_search.md), "stored" or "direct".
   std::string neighbor_search = "automatic";
+  // Cells of the neighbour search per cutoff: 1 (cells of the cutoff, a 3^D stencil), 2 (cells
+  // of half the cutoff, a 5^D stencil with the rows beyond the cutoff skipped: fewer candidates,
+  // more cells), 0: automatic (2 on the GPU, 1 on the CPU; measured in docs/sph.md).
+  int cells_per_cutoff = 0;
   // [report]: reference scales for the dimensionless columns of the observer file
   double length_scale = 1;
   double time_scale = 1;

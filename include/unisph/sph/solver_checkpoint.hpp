@@ -22,7 +22,7 @@
 
 namespace unisph::sph {
 
-inline constexpr std::uint32_t solver_checkpoint_version = 1;
+inline constexpr std::uint32_t solver_checkpoint_version = 2;  // 2: time.cells_per_cutoff
 
 void write_case(io::CheckpointWriter& out, const CaseDescription& c);
 CaseDescription read_case(io::CheckpointReader& in);

@@ -52,6 +52,13 @@ struct WeaklyCompressibleSolver<T, D>::State {
     if (c.neighbor_search == "direct") return SearchMethod::direct;
     return SearchMethod::automatic;
   }
+  // time.cells_per_cutoff; automatic: half-cutoff cells on the GPU, cutoff cells on the CPU
+  // (where the 5^D stencil's extra rows cost more than the candidates it saves).
+  static T cell_size_of(const CaseDescription& c, PolicyKind kind, T cutoff) {
+    int split = c.cells_per_cutoff;
+    if (split == 0) split = kind == PolicyKind::device ? 2 : 1;
+    return split == 2 ? cutoff / T(2) : cutoff;
+  }
   static const CaseDescription& checked(const CaseDescription& c) {
     if (c.dimension != D)
       throw Error("case '" + c.name + "' is " + std::to_string(c.dimension) + "D; this solver is " + std::to_string(D) + "D");
@@ -70,8 +77,8 @@ struct WeaklyCompressibleSolver<T, D>::State {
         wall_body("Wall", domain, particles.wall.size()),
         fluid(fluid_body),
         wall(wall_body),
-        fluid_cells(fluid.position, domain, kernel.cutoff()),
-        wall_cells(wall.position, domain, kernel.cutoff()),
+        fluid_cells(fluid.position, domain, kernel.cutoff(), OutsideParticles::clamp, cell_size_of(c, kind, kernel.cutoff())),
+        wall_cells(wall.position, domain, kernel.cutoff(), OutsideParticles::clamp, cell_size_of(c, kind, kernel.cutoff())),
         inner(fluid_cells, search_method_of(c)),
         contact(fluid.position, wall_cells, search_method_of(c)),
         fluid_sorter(fluid_body.particles(), fluid.position, fluid_cells.grid(), 1, SortOrder::cell_index),
