@@ -37,7 +37,7 @@ struct GenerateOptions {
   std::string output;
   double dx = 0;
   std::string outside;
-  int iterations = 1000;
+  int iterations = 1500;  // RelaxationSettings' default
   double tolerance = 0;
   ExecutionOptions execution;
 };

@@ -12,6 +12,7 @@
 // Device benchmarks skip with the reason where there is no GPU.
 #include <benchmark/benchmark.h>
 
+#include <ctime>
 #include <cstdlib>
 #include <fstream>
 #include <memory>
@@ -68,10 +69,12 @@ void BM_RelaxationIteration(benchmark::State& state) {
   // A few iterations first: kernels built, memory touched, the particles off the lattice.
   for (int k = 0; k < 5; ++k) relaxation.move(policy, settings, relaxation.measure(policy, k));
   fence(policy);
+  const std::clock_t cpu_start = std::clock();
   for (auto _ : state) {
     relaxation.move(policy, settings, relaxation.measure(policy));
     fence(policy);
   }
+  const double cpu_s = double(std::clock() - cpu_start) / CLOCKS_PER_SEC;
   const double n = double(relaxation.size()), it = double(state.iterations());
   state.counters["dx"] = double(dx);
   state.counters["particles"] = n;
@@ -80,6 +83,9 @@ void BM_RelaxationIteration(benchmark::State& state) {
   state.counters["us_per_particle_iteration"] =
       benchmark::Counter(n * it / 1e6, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   state.counters["target_us_per_particle_iteration"] = per_particle_target<P>();
+  // The process's CPU time (every thread) per particle and iteration: on a loaded machine the
+  // wall time above is an upper bound; on an idle one with p threads, wall ≈ this / p at best.
+  state.counters["process_cpu_us_per_particle_iteration"] = cpu_s * 1e6 / (n * it);
 }
 
 template <class P>
@@ -89,6 +95,7 @@ void BM_LevelSetAndLattice(benchmark::State& state) {
   const Real dx = Real(0.28);
   TriangleMeshSearch search(teapot().mesh);  // reading and the BVH are outside the timing
   Index n = 0;
+  const std::clock_t cpu_start = std::clock();
   for (auto _ : state) {
     std::unique_ptr<MultiResolutionLevelSet<3>> level_set =
         make_relaxation_level_set<3>(policy, search, teapot_box(), dx);
@@ -100,6 +107,7 @@ void BM_LevelSetAndLattice(benchmark::State& state) {
   state.counters["dx"] = double(dx);
   state.counters["particles"] = double(n);
   state.counters["target_s"] = 1.5;
+  state.counters["process_cpu_s"] = double(std::clock() - cpu_start) / CLOCKS_PER_SEC / double(state.iterations());
 }
 
 template <class P>

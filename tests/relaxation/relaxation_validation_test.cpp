@@ -45,22 +45,22 @@ void relax_and_check(P policy, const std::string& file, Real dx, int iterations,
 UNISPH_POLICY_TEST_SUITE(RelaxationValidation);
 
 TYPED_TEST(RelaxationValidation, UnitSphereDx005) {
-  relax_and_check<3>(this->policy, "trimesh_unit_sphere.stl", Real(0.05), 1000, true);
+  relax_and_check<3>(this->policy, "trimesh_unit_sphere.stl", Real(0.05), 1500, true);
 }
 TYPED_TEST(RelaxationValidation, AnnulusDx005) {
   relax_and_check<2>(this->policy, "annulus.poly", Real(0.05), 2000, false);
 }
 TYPED_TEST(RelaxationValidation, PlateWithHolesDx01) {
-  relax_and_check<2>(this->policy, "plate_with_holes.poly", Real(0.1), 1000, false);
+  relax_and_check<2>(this->policy, "plate_with_holes.poly", Real(0.1), 1500, false);
 }
 TYPED_TEST(RelaxationValidation, TeapotDx028) {
-  relax_and_check<3>(this->policy, "teapot.stl", Real(0.28), 1000, false);
+  relax_and_check<3>(this->policy, "teapot.stl", Real(0.28), 1500, false);
 }
 TYPED_TEST(RelaxationValidation, TeapotDx014) {
-  relax_and_check<3>(this->policy, "teapot.stl", Real(0.14), 1000, false);
+  relax_and_check<3>(this->policy, "teapot.stl", Real(0.14), 1500, false);
 }
 TYPED_TEST(RelaxationValidation, SPHinXsysLettersDx004) {
-  relax_and_check<3>(this->policy, "SPHinXsys.stl", Real(0.04), 1000, false);
+  relax_and_check<3>(this->policy, "SPHinXsys.stl", Real(0.04), 1500, false);
 }
 
 }  // namespace

@@ -35,9 +35,11 @@ class RelaxationStep : public UpdateDynamics<RelaxationStep<D>> {
 
   // FIRE (Bitzek et al. 2006) for the next exec: the velocities mixed towards the residual by
   // `mixing` (alpha) with `steer` = alpha |v| / |a| (norms over all particles), or dropped when
-  // `restart`; then v += dt a, x += dt v. exec's dt is then FIRE's time step, not β.
-  void set_fire(Real mixing, Real steer, bool restart) {
+  // `restart` (and, with `particle_restart`, for each particle whose residual points against its
+  // velocity); then v += dt a, x += dt v. exec's dt is then FIRE's time step, not β.
+  void set_fire(Real mixing, Real steer, bool restart, bool particle_restart = false) {
     fire_ = true;
+    particle_restart_ = particle_restart;
     mixing_ = mixing;
     steer_ = steer;
     restart_ = restart;
@@ -57,6 +59,7 @@ class RelaxationStep : public UpdateDynamics<RelaxationStep<D>> {
     bool fire;
     Real mixing, steer;
     bool restart;
+    bool particle_restart;
     UNISPH_HOST_DEVICE void update(Index i, Real step) const {
       if (fire) {
         const Position a = residual[i];
@@ -64,7 +67,8 @@ class RelaxationStep : public UpdateDynamics<RelaxationStep<D>> {
         // Guénolé et al. 2020): the last step overshot the minimum along v; step is then half
         // the last one, so half the last move is step * v.
         const Position start = restart ? position[i] - velocity[i] * step : position[i];
-        Position v = restart ? Position{} : velocity[i] * (Real(1) - mixing) + a * steer;
+        const bool stop = restart || (particle_restart && dot(velocity[i], a) < Real(0));
+        Position v = stop ? Position{} : velocity[i] * (Real(1) - mixing) + a * steer;
         v += a * step;
         const Position moved = start + v * step;
         const Position bounded = surface.bound(moved);
@@ -86,7 +90,7 @@ class RelaxationStep : public UpdateDynamics<RelaxationStep<D>> {
   };
   Kernel make_kernel(KernelContext& context) {
     return {context.read_write(position_), context.read_write(velocity_), context.read(residual_), surface_, momentum_,
-            fire_, mixing_, steer_, restart_};
+            fire_, mixing_, steer_, restart_, particle_restart_};
   }
   Index size() const { return position_.size(); }
 
@@ -99,6 +103,7 @@ class RelaxationStep : public UpdateDynamics<RelaxationStep<D>> {
   bool fire_ = false;
   Real mixing_ = Real(0), steer_ = Real(0);
   bool restart_ = false;
+  bool particle_restart_ = false;
 };
 
 // FIRE's global quantities in one reduction: (Σ a_i·v_i, Σ |a_i|², Σ |v_i|²).
