@@ -38,7 +38,9 @@ constexpr T dx = 1.0f;
 constexpr T h = 1.3f * dx;
 constexpr T cutoff = 2.0f * h;
 
-enum Order { morton = 0, random_order = 1, cell_order = 2 };
+// morton_traversal: the particles in Morton order, visited by the density pass in the cell
+// list's order (NeighborSearch::source_in_cell_order) instead of their index order.
+enum Order { morton = 0, random_order = 1, cell_order = 2, morton_traversal = 3 };
 
 // Wendland C2 in 3D, support 2h.
 struct WendlandC2 {
@@ -55,15 +57,17 @@ struct WendlandC2 {
 
 class DensitySummation : public InteractionDynamics<DensitySummation> {
  public:
-  DensitySummation(InnerRelation<T, D>& relation, DiscreteVariable<T>& density, Index count)
-      : relation_(relation), density_(density), count_(count) {}
+  DensitySummation(InnerRelation<T, D>& relation, DiscreteVariable<T>& density, Index count, bool cell_traversal)
+      : relation_(relation), density_(density), count_(count), cell_traversal_(cell_traversal) {}
 
   struct Kernel {
     NeighborSearch<T, D> search;
     View<T> density;
     WendlandC2 w;
     T mass;
-    UNISPH_HOST_DEVICE void interaction(Index i, Real) const {
+    bool cell_traversal;
+    UNISPH_HOST_DEVICE void interaction(Index k, Real) const {
+      const Index i = cell_traversal ? search.source_in_cell_order(k) : k;
       T sum = w(T(0));
       search.for_each_neighbor(i, [&](Index, const NeighborPair<T, D>& pair) { sum += w(pair.distance()); });
       density[i] = mass * sum;
@@ -72,7 +76,7 @@ class DensitySummation : public InteractionDynamics<DensitySummation> {
   Kernel make_kernel(KernelContext& context) {
     const T pi = T(3.14159265358979);
     return {relation_.search(context), context.write(density_), WendlandC2{T(1) / h, T(21) / (T(16) * pi * h * h * h)},
-            dx * dx * dx};
+            dx * dx * dx, cell_traversal_};
   }
   Index size() const { return count_; }
 
@@ -80,6 +84,7 @@ class DensitySummation : public InteractionDynamics<DensitySummation> {
   InnerRelation<T, D>& relation_;
   DiscreteVariable<T>& density_;
   Index count_;
+  bool cell_traversal_;
 };
 
 struct ReadValue {
@@ -153,8 +158,8 @@ struct Case {
         cells(body.positions(), body.domain(), cutoff, OutsideParticles::clamp, cell_size_for(split)),
         relation(cells, method),
         density("Density", n),
-        summation(relation, density, n) {
-    body.positions().assign(lattice(side, order, split));
+        summation(relation, density, n, order == morton_traversal) {
+    body.positions().assign(lattice(side, order == morton_traversal ? morton : order, split));
     cells.build(policy);
     const NeighborSearch<T, D> direct = relation.direct_search(policy);
     candidates = particle_reduce(policy, n, Sum<std::uint64_t>{}, CandidateCount<T, D>{direct});
@@ -269,7 +274,7 @@ void host_sizes(benchmark::internal::Benchmark* b) {
 }
 void device_sizes(benchmark::internal::Benchmark* b) {
   for (int split : {1, 2, 3})
-    for (int order : {morton, random_order, cell_order})
+    for (int order : {morton, random_order, cell_order, morton_traversal})
       for (int n : {1000000, 4000000, 10000000}) b->Args({n, order, split});
   b->ArgNames({"n", "order", "split"})->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(0.2);
 }

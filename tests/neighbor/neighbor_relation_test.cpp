@@ -240,6 +240,52 @@ TYPED_TEST(NeighborRelation, GhostsAreFoundButNotUpdated) {
   }
 }
 
+template <class T, int D>
+struct WriteSourceInCellOrder {
+  NeighborSearch<T, D> search;
+  View<std::uint32_t> out;
+  UNISPH_HOST_DEVICE void operator()(Index k) const { out[k] = std::uint32_t(search.source_in_cell_order(k)); }
+};
+
+// source_in_cell_order visits every particle once, cell after cell, whatever the particles'
+// own order; in cell order it is the identity.
+TYPED_TEST(NeighborRelation, SourcesInCellOrderVisitEveryParticleOnceCellByCell) {
+  const auto policy = this->policy;
+  for (Layout layout : all_layouts) {
+    const Scenario<float, 3> s = make_scenario<float, 3>(layout);
+    std::vector<Vec<float, 3>> positions = s.positions;
+    for (bool sorted : {false, true}) {
+      DiscreteVariable<Vec<float, 3>> x("Position");
+      CellLinkedList<float, 3> cells(x, s.box, s.cutoff);
+      if (sorted)  // into cell order on the list's own grid
+        std::stable_sort(positions.begin(), positions.end(), [&](const auto& a, const auto& b) {
+          return cells.grid().linear_index(cells.grid().place(a).cell) < cells.grid().linear_index(cells.grid().place(b).cell);
+        });
+      x.assign(positions);
+      cells.build(policy);
+      InnerRelation<float, 3> inner(cells, SearchMethod::direct);
+      const Index n = Index(positions.size());
+      DiscreteVariable<std::uint32_t> order("order", n);
+      particle_for(policy, n, WriteSourceInCellOrder<float, 3>{inner.search(policy), order.write(policy)});
+      const std::vector<std::uint32_t> o = order.to_vector();
+      std::vector<int> seen(n, 0);
+      Index repeated = 0, out_of_order = 0, moved = 0;
+      for (Index k = 0; k < n; ++k) {
+        repeated += o[k] >= n || seen[o[k]]++ > 0;
+        moved += o[k] != k;
+        if (k > 0 && o[k] < n && o[k - 1] < n)
+          out_of_order += cells.grid().linear_index(cells.grid().place(positions[o[k]]).cell) <
+                          cells.grid().linear_index(cells.grid().place(positions[o[k - 1]]).cell);
+      }
+      EXPECT_EQ(repeated, 0u) << to_string(layout);
+      EXPECT_EQ(out_of_order, 0u) << to_string(layout);
+      if (sorted) {
+        EXPECT_EQ(moved, 0u) << to_string(layout) << ": in cell order the order is the identity";
+      }
+    }
+  }
+}
+
 TYPED_TEST(NeighborRelation, StoredListsMustBeUpdatedAfterEachBuild) {
   const auto policy = this->policy;
   const Scenario<double, 3> s = make_scenario<double, 3>(Layout::random);

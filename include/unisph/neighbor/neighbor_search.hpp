@@ -57,6 +57,15 @@ struct NeighborSearch {
 
   UNISPH_HOST_DEVICE bool uses_stored_lists() const { return !list_counts.empty(); }
 
+  // The k-th particle of the cell list's order (the particles of cell 0, then of cell 1, ...),
+  // for an inner relation, whose sources are the cell list's particles. A kernel that takes its
+  // i this way, i = source_in_cell_order(k) for k in [0, n), visits every particle once, and
+  // the lanes of a warp then hold particles of the same cells, which walk the same rows, even
+  // where the particles are not stored in cell order (e.g. in Morton order).
+  UNISPH_HOST_DEVICE Index source_in_cell_order(Index k) const {
+    return targets.in_cell_order() ? k : Index(targets.particles[k]);
+  }
+
   template <class F>
   UNISPH_HOST_DEVICE void for_each_neighbor(Index i, F&& f) const {
     if (uses_stored_lists())
