@@ -14,6 +14,7 @@
 #include "unisph/neighbor/particle_sorter.hpp"
 #include "unisph/sph/density_relaxation.hpp"
 #include "unisph/sph/density_summation.hpp"
+#include "unisph/sph/fused_updates.hpp"
 #include "unisph/sph/observers.hpp"
 #include "unisph/sph/pressure_relaxation.hpp"
 #include "unisph/sph/solver_checkpoint.hpp"
@@ -95,6 +96,8 @@ struct WeaklyCompressibleSolver<T, D>::State {
         density_relaxation(fluid, wall, inner, contact, kernel, riemann, wall_volume, c.continuity_dissipation),
         density_update(fluid),
         max_speed(fluid),
+        velocity_update_and_max_speed(velocity_update, max_speed),
+        density_update_and_start(density_update, pressure_start),
         front(fluid, 0, T(c.dx)),
         energy(fluid, gravity_of(c)),
         total_mass(fluid) {
@@ -218,26 +221,47 @@ struct WeaklyCompressibleSolver<T, D>::State {
       std::uint64_t steps_here = 0;
       density_summation.exec(p);
       prior_acceleration.exec(p);
+      // Each acoustic step: pressure start (rho, p, x), pressure relaxation (a), velocity
+      // update (v, x) with the largest speed, density relaxation (drho/dt), density update
+      // (rho). The density update of a step and the start of the next run as one launch, as
+      // do the velocity update and the speed reduction (fused_updates.hpp); the values are
+      // those of the separate kernels, and what a diagnosis or a limit sees is the state
+      // after a whole step, as before.
+      const auto too_many_steps = [&] { return double(++steps_here) > 100 * expected_steps + 1000; };
+      const auto blew_up = [&] {
+        std::ostringstream s;
+        s << "the largest speed grew to " << speed << " within one advection step (acoustic step " << last_acoustic_dt
+          << ", " << steps_here << " of them): the flow blew up";
+        diagnose(s.str());
+      };
       double relaxed = 0;
-      while (advection_dt - relaxed > 1e-12 * advection_dt) {
-        if (double(++steps_here) > 100 * expected_steps + 1000) {
-          std::ostringstream s;
-          s << "the largest speed grew to " << speed << " within one advection step (acoustic step " << last_acoustic_dt
-            << ", " << steps_here << " of them): the flow blew up";
-          diagnose(s.str());
-        }
+      const auto next_acoustic_step = [&] {
         double dt = criteria.acoustic_step(speed);
         if (dt >= advection_dt - relaxed) dt = advection_dt - relaxed;
-        last_acoustic_dt = dt;
-        pressure_start.exec(p, Real(dt));
+        return dt;
+      };
+      // advection_dt > 0 (checked above): at least one acoustic step.
+      if (too_many_steps()) blew_up();
+      double dt = next_acoustic_step();
+      last_acoustic_dt = dt;
+      pressure_start.exec(p, Real(dt));
+      for (;;) {
         pressure_relaxation.exec(p, Real(dt));
-        velocity_update.exec(p, Real(dt));
+        speed = double(velocity_update_and_max_speed.exec(p, Real(dt)));
         density_relaxation.exec(p, Real(dt));
-        density_update.exec(p, Real(dt));
         relaxed += dt;
         ++acoustic_steps;
-        speed = double(max_speed.exec(p));
-        if (!std::isfinite(speed)) diagnose("the largest speed is not finite");
+        const bool more = advection_dt - relaxed > 1e-12 * advection_dt;
+        if (!std::isfinite(speed) || !more || too_many_steps()) {
+          density_update.exec(p, Real(dt));
+          if (!std::isfinite(speed)) diagnose("the largest speed is not finite");
+          if (more) blew_up();
+          break;
+        }
+        const double next = next_acoustic_step();
+        density_update_and_start.exec(p, Real(dt), Real(next));
+        dt = next;
+        last_acoustic_dt = dt;
       }
       time += relaxed;
       ++advection_steps;
@@ -428,6 +452,8 @@ struct WeaklyCompressibleSolver<T, D>::State {
   DensityRelaxation<T, D> density_relaxation;
   DensityUpdate<T, D> density_update;
   MaximumSpeed<T, D> max_speed;
+  VelocityUpdateAndMaxSpeed<T, D> velocity_update_and_max_speed;
+  DensityUpdateAndPressureStart<T, D> density_update_and_start;
   FrontPosition<T, D> front;
   MechanicalEnergy<T, D> energy;
   TotalMass<T, D> total_mass;
