@@ -307,6 +307,67 @@ TYPED_TEST(NeighborRelation, StoredListsMustBeUpdatedAfterEachBuild) {
   EXPECT_EQ(automatic.method(policy), expected_default);
 }
 
+// A pair weight for the weighted loop (any function of the pair; SPH passes dW/dr).
+struct ScaledDistance {
+  double scale;
+  template <class Pair>
+  UNISPH_HOST_DEVICE double operator()(const Pair& pair) const { return scale * pair.distance(); }
+};
+
+// Counts the neighbours of the weighted loop and every w that is not weight(pair) bit for bit.
+struct CheckWeights {
+  NeighborSearch<double, 3> search;
+  ScaledDistance weight;
+  View<std::uint32_t> counts;
+  View<unsigned> errors;
+  UNISPH_HOST_DEVICE void operator()(Index i) const {
+    std::uint32_t c = 0;
+    search.for_each_weighted_neighbor(i, weight, [&](Index, const NeighborPair<double, 3>& pair, double w) {
+      if (!(w == weight(pair))) atomic_add(&errors[0], 1u);
+      ++c;
+    });
+    counts[i] = c;
+  }
+};
+
+// The weight column of stored lists is handed to a search only for the functor that filled it
+// and only for the lists it was filled for; the weighted loop gives the same neighbours and
+// weight(pair) whether it reads the column or computes the weights.
+TYPED_TEST(NeighborRelation, PairWeightsCachedForTheirFunctionOnly) {
+  const auto policy = this->policy;
+  const Scenario<double, 3> s = make_scenario<double, 3>(Layout::random);
+  DiscreteVariable<Vec<double, 3>> x("Position");
+  x.assign(s.positions);
+  CellLinkedList<double, 3> cells(x, s.box, s.cutoff);
+  const ScaledDistance weight{3.0}, other{2.0};
+  for (SearchMethod method : {SearchMethod::direct, SearchMethod::stored}) {
+    const bool stored = method == SearchMethod::stored;
+    InnerRelation<double, 3> inner(cells, method);
+    cells.build(policy);
+    inner.update(policy);
+    EXPECT_TRUE(inner.search(policy, weight).list_weights.empty());  // not filled
+    inner.update(policy, weight);
+    EXPECT_EQ(inner.search(policy, weight).list_weights.empty(), !stored);
+    EXPECT_TRUE(inner.search(policy, other).list_weights.empty());  // another functor's values
+    cells.build(policy);
+    inner.update(policy);
+    EXPECT_TRUE(inner.search(policy, weight).list_weights.empty());  // filled for the previous lists
+    for (int pass = 0; pass < 2; ++pass) {
+      if (pass == 1) inner.update(policy, weight);
+      DiscreteVariable<std::uint32_t> counts("counts", x.size());
+      DiscreteVariable<unsigned> errors("errors", 1);
+      particle_for(policy, x.size(),
+                   CheckWeights{inner.search(policy, weight), weight, counts.write(policy), errors.read_write(policy)});
+      const NeighborSets reference = brute_force(cells.grid(), s.positions, s.positions, true, false);
+      const std::vector<std::uint32_t> c = counts.to_vector();
+      Index wrong = 0;
+      for (Index i = 0; i < x.size(); ++i) wrong += c[i] != reference[i].size();
+      EXPECT_EQ(wrong, 0u) << (stored ? "stored" : "direct") << ", pass " << pass;
+      EXPECT_EQ(errors.to_vector()[0], 0u) << (stored ? "stored" : "direct") << ", pass " << pass;
+    }
+  }
+}
+
 TYPED_TEST(NeighborRelation, MatchesBruteForce2DFloat) { check_layouts<float, 2>(this->policy); }
 TYPED_TEST(NeighborRelation, MatchesBruteForce2DDouble) { check_layouts<double, 2>(this->policy); }
 TYPED_TEST(NeighborRelation, MatchesBruteForce3DFloat) { check_layouts<float, 3>(this->policy); }

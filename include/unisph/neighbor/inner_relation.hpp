@@ -43,6 +43,15 @@ class InnerRelation {
     }
   }
 
+  // As update(policy), and with stored lists also their weight column: weight(pair) for each
+  // pair, for kernels that ask for it with search(context, weight) and read it through
+  // NeighborSearch::for_each_weighted_neighbor (a direct search computes it pair by pair).
+  template <ExecutionPolicy P, class W>
+  void update(P policy, const W& weight) {
+    update(policy);
+    if (method(policy) == SearchMethod::stored) lists_.fill_weights(policy, weight);
+  }
+
   template <ExecutionPolicy P>
   NeighborSearch<T, D> search(P policy) {
     NeighborSearch<T, D> s = direct_search(policy);
@@ -57,7 +66,7 @@ class InnerRelation {
     return s;
   }
   NeighborSearch<T, D> search(KernelContext& context) {
-    NeighborSearch<T, D> s{context.read(cells_.positions()), cells_.view(context), true, {}, {}, {}, 0, 0};
+    NeighborSearch<T, D> s{context.read(cells_.positions()), cells_.view(context), true, {}, {}, {}, 0, 0, {}};
     const bool stored = context.space() == MemorySpace::device
                             ? method(ParallelDevicePolicy{}) == SearchMethod::stored
                             : method(ParallelPolicy{}) == SearchMethod::stored;
@@ -72,12 +81,27 @@ class InnerRelation {
     return s;
   }
 
+  // search(policy) / search(context), with the lists' weight column when it holds `weight`
+  // for the current lists (else a weighted loop computes the weights).
+  template <ExecutionPolicy P, class W>
+  NeighborSearch<T, D> search(P policy, const W& weight) {
+    NeighborSearch<T, D> s = search(policy);
+    if (s.uses_stored_lists() && lists_.has_weights_of(weight)) s.list_weights = lists_.weights().read(P::space);
+    return s;
+  }
+  template <class W>
+  NeighborSearch<T, D> search(KernelContext& context, const W& weight) {
+    NeighborSearch<T, D> s = search(context);
+    if (s.uses_stored_lists() && lists_.has_weights_of(weight)) s.list_weights = context.read(lists_.weights());
+    return s;
+  }
+
   StoredNeighborLists<T, D>& stored_lists() { return lists_; }
 
   // A direct search whatever the method (what the stored lists are built from).
   template <ExecutionPolicy P>
   NeighborSearch<T, D> direct_search(P policy) {
-    return {cells_.positions().read(policy), cells_.view(policy), true, {}, {}, {}, 0, 0};
+    return {cells_.positions().read(policy), cells_.view(policy), true, {}, {}, {}, 0, 0, {}};
   }
 
  private:

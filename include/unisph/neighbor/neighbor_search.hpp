@@ -54,6 +54,9 @@ struct NeighborSearch {
   View<const std::uint32_t> list_neighbors;
   View<const NeighborPair<T, D>> list_pairs;
   std::uint64_t list_source_stride = 0, list_slot_stride = 0;
+  // Optional, with stored lists: a value per pair cached at the update, in the slots' layout
+  // (see for_each_weighted_neighbor).
+  View<const T> list_weights;
 
   UNISPH_HOST_DEVICE bool uses_stored_lists() const { return !list_counts.empty(); }
 
@@ -64,6 +67,25 @@ struct NeighborSearch {
   // where the particles are not stored in cell order (e.g. in Morton order).
   UNISPH_HOST_DEVICE Index source_in_cell_order(Index k) const {
     return targets.in_cell_order() ? k : Index(targets.particles[k]);
+  }
+
+  // f(j, pair, w) for every neighbour, with w = weight(pair). Stored lists that carry a weight
+  // column (filled with this same `weight` at the relation's update(policy, weight); the
+  // relation's search(context, weight) hands the column only then) give the cached value;
+  // otherwise weight(pair) is computed here, pair by pair. The values are the same bits: the
+  // cached ones were computed by the same function from the same stored pair. SPH passes
+  // dW/dr, whose distance is frozen over an advection step: computed once per build instead
+  // of at every acoustic pass.
+  template <class W, class F>
+  UNISPH_NEIGHBOR_LOOP UNISPH_HOST_DEVICE void for_each_weighted_neighbor(Index i, const W& weight, F&& f) const {
+    if (uses_stored_lists() && !list_weights.empty()) {
+      const std::uint64_t n = list_counts[i];
+      std::uint64_t slot = i * list_source_stride;
+      for (std::uint64_t k = 0; k < n; ++k, slot += list_slot_stride)
+        f(Index(list_neighbors[slot]), list_pairs[slot], list_weights[slot]);
+    } else {
+      for_each_neighbor(i, [&](Index j, const NeighborPair<T, D>& pair) { f(j, pair, weight(pair)); });
+    }
   }
 
   template <class F>

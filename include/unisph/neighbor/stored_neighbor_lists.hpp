@@ -21,10 +21,19 @@
 // (the threads of a warp, neighbouring i, read neighbouring addresses).
 
 #include <cstdint>
+#include <cstring>
+#include <type_traits>
+#include <typeindex>
+#include <typeinfo>
+#include <vector>
 
 #include "unisph/exec/algorithms.hpp"
 #include "unisph/memory/discrete_variable.hpp"
 #include "unisph/neighbor/neighbor_search.hpp"
+
+#if !UNISPH_DEVICE_CODE && defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace unisph {
 
@@ -71,9 +80,53 @@ struct FillSlots {
       n += accepted ? 1u : 0u;
     });
     const std::uint64_t filled = n < capacity ? n : capacity;
-    for (std::uint64_t k = 0; k < filled; ++k) pairs[base + k * slot_stride].complete();
+    complete_slots(base, filled);
 #endif
     counts[i] = static_cast<std::uint32_t>(n);
+  }
+
+#if !UNISPH_DEVICE_CODE
+  // NeighborPair::complete() for the slots [0, filled) of the source at `base`. In double with
+  // SSE2, two pairs at a time: the square roots and the divisions 1 / |r_ij| of two pairs in one
+  // packed instruction each (they are what the completion waits on; the packed ones give the
+  // same correctly rounded bits, and e_ij is r_ij * (1 / |r_ij|) as in complete()).
+  // Measured on the 2D dam break, seq: the completion was about half of the build's own time.
+  void complete_slots(std::uint64_t base, std::uint64_t filled) const {
+    std::uint64_t k = 0;
+#if defined(__SSE2__)
+    if constexpr (std::is_same_v<T, double>) {
+      for (; k + 1 < filled; k += 2) {
+        NeighborPair<T, D>& a = pairs[base + k * slot_stride];
+        NeighborPair<T, D>& b = pairs[base + (k + 1) * slot_stride];
+        const __m128d r = _mm_sqrt_pd(_mm_set_pd(b.squared_distance, a.squared_distance));
+        const __m128d inverse = _mm_div_pd(_mm_set1_pd(1.0), r);
+        alignas(16) double rs[2], inverses[2];
+        _mm_store_pd(rs, r);
+        _mm_store_pd(inverses, inverse);
+        a.r = rs[0];
+        b.r = rs[1];
+        a.e_ij = rs[0] > 0.0 ? a.r_ij * inverses[0] : Vec<T, D>{};
+        b.e_ij = rs[1] > 0.0 ? b.r_ij * inverses[1] : Vec<T, D>{};
+      }
+    }
+#endif
+    for (; k < filled; ++k) pairs[base + k * slot_stride].complete();
+  }
+#endif
+};
+
+// weights[slot] = weight(pairs[slot]) for the filled slots of i.
+template <class T, int D, class W>
+struct FillWeights {
+  View<const std::uint32_t> counts;
+  View<const NeighborPair<T, D>> pairs;
+  View<T> weights;
+  W weight;
+  std::uint64_t source_stride, slot_stride;
+  UNISPH_HOST_DEVICE void operator()(Index i) const {
+    const std::uint64_t n = counts[i];
+    std::uint64_t slot = i * source_stride;
+    for (std::uint64_t k = 0; k < n; ++k, slot += slot_stride) weights[slot] = weight(pairs[slot]);
   }
 };
 
@@ -97,7 +150,10 @@ template <class T, int D>
 class StoredNeighborLists {
  public:
   explicit StoredNeighborLists(const std::string& name)
-      : counts_(name + ".NeighborCounts"), neighbors_(name + ".Neighbors"), pairs_(name + ".NeighborPairs") {}
+      : counts_(name + ".NeighborCounts"),
+        neighbors_(name + ".Neighbors"),
+        pairs_(name + ".NeighborPairs"),
+        weights_(name + ".PairWeights") {}
 
   // Lists for sources [0, source_count) from a direct search (its lists, if any, are ignored).
   template <ExecutionPolicy P>
@@ -108,6 +164,7 @@ class StoredNeighborLists {
     counts_.resize(source_count);
     space_ = P::space;
     source_count_ = source_count;
+    ++builds_;
     for (;;) {
       const std::uint64_t slots = std::uint64_t(source_count) * capacity_;
       // Reallocated only when the layout changes (capacity or source count; rare once the
@@ -134,6 +191,35 @@ class StoredNeighborLists {
       capacity_ = summary.largest + summary.largest / 8;  // room to grow a little before the next retry
     }
   }
+
+  // An optional column of one value per pair, weight(pair), in the slots' layout, for the
+  // lists of the last build (NeighborSearch::for_each_weighted_neighbor reads it). W is a
+  // trivially copyable functor; which one filled the column is remembered (type and bytes), so
+  // a search asks for it with the same functor and gets it only if it is current.
+  template <ExecutionPolicy P, class W>
+  void fill_weights(P policy, const W& weight) {
+    static_assert(std::is_trivially_copyable_v<W>, "The pair weight functor is copied into a kernel.");
+    if (weights_.size() != neighbors_.size()) {
+      weights_.resize(0);
+      weights_.resize(neighbors_.size());
+    }
+    const Layout layout = layout_for(P::space, source_count_);
+    particle_for(policy, source_count_,
+                 stored_lists_detail::FillWeights<T, D, W>{counts_.read(policy), pairs_.read(policy),
+                                                           weights_.write(policy), weight, layout.source_stride,
+                                                           layout.slot_stride});
+    weights_from_build_ = builds_;
+    weight_type_ = std::type_index(typeid(W));
+    weight_bytes_.assign(reinterpret_cast<const unsigned char*>(&weight),
+                         reinterpret_cast<const unsigned char*>(&weight) + sizeof(W));
+  }
+  // Whether the weight column holds weight(pair) for the pairs of the last build.
+  template <class W>
+  bool has_weights_of(const W& weight) const {
+    return weights_from_build_ == builds_ && weight_type_ == std::type_index(typeid(W)) &&
+           weight_bytes_.size() == sizeof(W) && std::memcmp(weight_bytes_.data(), &weight, sizeof(W)) == 0;
+  }
+  DiscreteVariable<T>& weights() { return weights_; }
 
   Index pair_count() const { return pair_count_; }
   Index source_count() const { return source_count_; }
@@ -164,6 +250,11 @@ class StoredNeighborLists {
   DiscreteVariable<std::uint32_t> counts_;
   DiscreteVariable<std::uint32_t> neighbors_;
   DiscreteVariable<NeighborPair<T, D>> pairs_;
+  DiscreteVariable<T> weights_;
+  std::uint64_t builds_ = 0;
+  std::uint64_t weights_from_build_ = ~std::uint64_t(0);
+  std::type_index weight_type_ = std::type_index(typeid(void));
+  std::vector<unsigned char> weight_bytes_;
   std::uint64_t capacity_ = 0;
   std::uint64_t laid_out_capacity_ = ~std::uint64_t(0);  // the layout the arrays were last allocated for
   Index laid_out_sources_ = 0;

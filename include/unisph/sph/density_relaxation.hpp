@@ -48,21 +48,20 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
       const Vec<T, D> v_i = velocity[i];
       const T p_i = pressure[i];
       T rate = T(0);
-      inner.for_each_neighbor(i, [&](Index j, const NeighborPair<T, D>& pair) {
-        const T r = pair.distance();
+      const PairKernelDerivative<T, D> derivative{kernel};  // dW/dr, cached in stored lists
+      inner.for_each_weighted_neighbor(i, derivative, [&](Index j, const NeighborPair<T, D>& pair, T dW) {
         const Vec<T, D>& e = pair.direction();
         const T divergence = dot(v_i - velocity[j], e) + dissipation * riemann.velocity_dissipation(p_i, pressure[j]);
-        rate += divergence * kernel.derivative(r) * mass[j] / density[j];
+        rate += divergence * dW * mass[j] / density[j];
       });
       const Vec<T, D> a0 = prior_acceleration[i];
       const T rho_i = density[i];
-      contact.for_each_neighbor(i, [&](Index w, const NeighborPair<T, D>& pair) {
-        const T r = pair.distance();
+      contact.for_each_weighted_neighbor(i, derivative, [&](Index w, const NeighborPair<T, D>& pair, T dW) {
         const Vec<T, D>& e = pair.direction();
         const Vec<T, D> n = wall_normal[w];
         const T p_w = wall_dummy_pressure(p_i, rho_i, a0, pair.r_ij);
         const T divergence = T(2) * dot(v_i, n) * dot(n, e) + dissipation * riemann.velocity_dissipation(p_i, p_w);
-        rate += divergence * kernel.derivative(r) * wall_volume;
+        rate += divergence * dW * wall_volume;
       });
       density_change_rate[i] = rate * rho_i;
     }
@@ -70,7 +69,9 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
   static_assert(std::is_trivially_copyable_v<Kernel>, "Kernels are copied to the device byte for byte.");
 
   Kernel make_kernel(KernelContext& c) {
-    return {inner_.search(c), contact_.search(c), c.read(fluid_.velocity), c.read(fluid_.prior_acceleration),
+    const PairKernelDerivative<T, D> derivative{kernel_};
+    return {inner_.search(c, derivative), contact_.search(c, derivative), c.read(fluid_.velocity),
+            c.read(fluid_.prior_acceleration),
             c.read(wall_.normal),
             c.read(fluid_.density), c.read(fluid_.pressure), c.read(fluid_.mass),
             c.write(fluid_.density_change_rate), kernel_, riemann_, wall_volume_, dissipation_};

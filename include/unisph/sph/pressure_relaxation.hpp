@@ -83,21 +83,20 @@ class PressureRelaxation : public InteractionDynamics<PressureRelaxation<T, D>> 
       const T p_i = pressure[i];
       const T rho_i = density[i];
       Vec<T, D> force{};  // sum of 2 p* dW V_j e_ij
-      inner.for_each_neighbor(i, [&](Index j, const NeighborPair<T, D>& pair) {
-        const T r = pair.distance();
+      const PairKernelDerivative<T, D> derivative{kernel};  // dW/dr, cached in stored lists
+      inner.for_each_weighted_neighbor(i, derivative, [&](Index j, const NeighborPair<T, D>& pair, T dW) {
         const Vec<T, D>& e = pair.direction();
         const T jump = -dot(v_i - velocity[j], e);
-        const T weight = kernel.derivative(r) * mass[j] / density[j];
+        const T weight = dW * mass[j] / density[j];
         force += e * (riemann.twice_interface_pressure(p_i, pressure[j], jump) * weight);
       });
       const Vec<T, D> a0 = prior_acceleration[i];
-      contact.for_each_neighbor(i, [&](Index w, const NeighborPair<T, D>& pair) {
-        const T r = pair.distance();
+      contact.for_each_weighted_neighbor(i, derivative, [&](Index w, const NeighborPair<T, D>& pair, T dW) {
         const Vec<T, D>& e = pair.direction();
         const Vec<T, D> n = wall_normal[w];
         const T p_w = wall_dummy_pressure(p_i, rho_i, a0, pair.r_ij);
         const T jump = -T(2) * dot(v_i, n);
-        force += e * (riemann.twice_interface_pressure(p_i, p_w, jump) * kernel.derivative(r) * wall_volume);
+        force += e * (riemann.twice_interface_pressure(p_i, p_w, jump) * dW * wall_volume);
       });
       acceleration[i] = force * (-T(1) / rho_i);
     }
@@ -105,9 +104,10 @@ class PressureRelaxation : public InteractionDynamics<PressureRelaxation<T, D>> 
   static_assert(std::is_trivially_copyable_v<Kernel>, "Kernels are copied to the device byte for byte.");
 
   Kernel make_kernel(KernelContext& c) {
-    return {inner_.search(c), contact_.search(c), c.read(fluid_.velocity), c.read(fluid_.prior_acceleration),
-            c.read(wall_.normal), c.read(fluid_.density), c.read(fluid_.pressure), c.read(fluid_.mass),
-            c.write(fluid_.acceleration), kernel_, riemann_, wall_volume_};
+    const PairKernelDerivative<T, D> derivative{kernel_};
+    return {inner_.search(c, derivative), contact_.search(c, derivative), c.read(fluid_.velocity),
+            c.read(fluid_.prior_acceleration), c.read(wall_.normal), c.read(fluid_.density), c.read(fluid_.pressure),
+            c.read(fluid_.mass), c.write(fluid_.acceleration), kernel_, riemann_, wall_volume_};
   }
   Index size() const { return fluid_.size(); }
 

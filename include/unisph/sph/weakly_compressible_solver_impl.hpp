@@ -151,8 +151,9 @@ struct WeaklyCompressibleSolver<T, D>::State {
   template <class P>
   void rebuild(P p) {
     fluid_cells.build(p);
-    inner.update(p);
-    contact.update(p);
+    // With stored lists, dW/dr of each pair is cached with its geometry (the relaxations read it).
+    inner.update(p, PairKernelDerivative<T, D>{kernel});
+    contact.update(p, PairKernelDerivative<T, D>{kernel});
     const CellListReport report = fluid_cells.report();
     if (report.out_of_box != 0 || report.non_finite != 0) diagnose("a fluid particle left the domain");
   }

@@ -63,4 +63,14 @@ struct WendlandC2Kernel {
   }
 };
 
+// dW/dr at a neighbour pair's distance: the pair weight the stored lists cache for the
+// pressure and density relaxations (NeighborSearch::for_each_weighted_neighbor; the solver
+// fills it at each rebuild, InnerRelation/ContactRelation::update(policy, weight)).
+template <class T, int D>
+struct PairKernelDerivative {
+  WendlandC2Kernel<T, D> kernel;
+  template <class Pair>
+  UNISPH_HOST_DEVICE T operator()(const Pair& pair) const { return kernel.derivative(pair.distance()); }
+};
+
 }  // namespace unisph::sph
