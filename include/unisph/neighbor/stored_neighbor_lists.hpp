@@ -48,7 +48,7 @@ struct FillSlots {
   View<std::uint32_t> neighbors;
   View<NeighborPair<T, D>> pairs;
   std::uint64_t capacity, source_stride, slot_stride;
-  UNISPH_HOST_DEVICE void operator()(Index i) const {
+  UNISPH_NEIGHBOR_LOOP UNISPH_HOST_DEVICE void operator()(Index i) const {
     std::uint64_t n = 0;
     const std::uint64_t base = i * source_stride;
 #if UNISPH_DEVICE_CODE
@@ -67,15 +67,23 @@ struct FillSlots {
     // accepted one advances it (no unpredictable branch); the accepted pairs are completed
     // afterwards in a loop whose iterations are independent. Same pairs, same order, same bits.
     // (Measured on the 2D dam break at H/40, seq, 0 <= t <= 3: the whole run 3.4 -> 3.3 s.)
-    search.for_each_direct_candidate(i, [&](Index j, const Vec<T, D>& xi, const Vec<T, D>& xj) {
+    // The whole walk is inlined here (UNISPH_NEIGHBOR_LOOP) and reads local copies of the
+    // search, the views and the sizes, so that n, the pointers and the cutoff stay in registers
+    // (as a separate function, GCC kept n in memory: a store-to-load chain per candidate).
+    // Measured on the 2D dam break, seq, t = 0..3: 2.55 -> 2.47 s CPU (flattening alone).
+    const NeighborSearch<T, D> walk = search;
+    const View<std::uint32_t> slot_neighbors = neighbors;
+    const View<NeighborPair<T, D>> slot_pairs = pairs;
+    const std::uint64_t slot_capacity = capacity, stride = slot_stride;
+    walk.for_each_direct_candidate(i, [&](Index j, const Vec<T, D>& xi, const Vec<T, D>& xj) {
       Vec<T, D> r_ij;
       T r2;
-      const bool accepted = search.targets.grid.test_pair(xi, xj, r_ij, r2);
-      if (n < capacity) {
-        const std::uint64_t slot = base + n * slot_stride;
-        neighbors[slot] = static_cast<std::uint32_t>(j);
-        pairs[slot].r_ij = r_ij;
-        pairs[slot].squared_distance = r2;
+      const bool accepted = walk.targets.grid.test_pair(xi, xj, r_ij, r2);
+      if (n < slot_capacity) {
+        const std::uint64_t slot = base + n * stride;
+        slot_neighbors[slot] = static_cast<std::uint32_t>(j);
+        slot_pairs[slot].r_ij = r_ij;
+        slot_pairs[slot].squared_distance = r2;
       }
       n += accepted ? 1u : 0u;
     });
