@@ -23,6 +23,14 @@ run column80 column_collapse_2d.toml --dx 0.0125; cp "$W/column80/observers.csv"
 run hydrostatic hydrostatic_2d.toml;         cp "$W/hydrostatic/observers.csv" "$OUT/hydrostatic_2d.csv"
 run dambreak_3d_025 dambreak_3d.toml --dx 0.025 --precision float; cp "$W/dambreak_3d_025/observers.csv" "$OUT/dambreak_3d_dx0.025.csv"
 run dambreak_3d_0125 dambreak_3d.toml --dx 0.0125 --precision float --end-time 6; cp "$W/dambreak_3d_0125/observers.csv" "$OUT/dambreak_3d_dx0.0125.csv"
+# The resolution study of docs/validation.md: the dam break to t* = 6 at H/80..H/320 (crossing and
+# window mean: sph_run_metrics.py crossing FILE), the column at L/dx = 160, 3D dx 0.0125 in double.
+for n in 80 160 320; do
+  run "dambreak_2d_H$n" dambreak_2d.toml --dx $(awk "BEGIN{print 1/$n}") --end-time 6; cp "$W/dambreak_2d_H$n/observers.csv" "$OUT/dambreak_2d_H$n.csv"
+done
+run dambreak_2d_H320_f dambreak_2d.toml --dx 0.003125 --end-time 6 --precision float; cp "$W/dambreak_2d_H320_f/observers.csv" "$OUT/dambreak_2d_H320_float.csv"
+run column160 column_collapse_2d.toml --dx 0.00625; cp "$W/column160/observers.csv" "$OUT/column_collapse_2d_dx160.csv"
+run dambreak_3d_0125_d dambreak_3d.toml --dx 0.0125 --end-time 6; cp "$W/dambreak_3d_0125_d/observers.csv" "$OUT/dambreak_3d_dx0.0125_double.csv"
 for p in float double; do
   for n in 40 80 160 320; do run "2d_H$n" dambreak_2d.toml --dx $(awk "BEGIN{print 1/$n}") --precision $p --end-time 0.5; done
   for dx in 0.05 0.025 0.0125 0.00625; do run "3d_$dx" dambreak_3d.toml --dx $dx --precision $p --end-time 0.1; done
