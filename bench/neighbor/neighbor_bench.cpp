@@ -39,8 +39,10 @@ constexpr T h = 1.3f * dx;
 constexpr T cutoff = 2.0f * h;
 
 // morton_traversal: the particles in Morton order, visited by the density pass in the cell
-// list's order (NeighborSearch::source_in_cell_order) instead of their index order.
-enum Order { morton = 0, random_order = 1, cell_order = 2, morton_traversal = 3 };
+// list's order (NeighborSearch::cell_order_source) instead of their index order.
+// morton_cell_points: the same, with the cell list keeping a copy of the positions in its own
+// order (CellLinkedList::store_positions_in_cell_order; its build then includes the copy).
+enum Order { morton = 0, random_order = 1, cell_order = 2, morton_traversal = 3, morton_cell_points = 4 };
 
 // Wendland C2 in 3D, support 2h.
 struct WendlandC2 {
@@ -67,10 +69,18 @@ class DensitySummation : public InteractionDynamics<DensitySummation> {
     T mass;
     bool cell_traversal;
     UNISPH_HOST_DEVICE void interaction(Index k, Real) const {
-      const Index i = cell_traversal ? search.source_in_cell_order(k) : k;
-      T sum = w(T(0));
-      search.for_each_neighbor(i, [&](Index, const NeighborPair<T, D>& pair) { sum += w(pair.distance()); });
-      density[i] = mass * sum;
+      if (cell_traversal) {
+        const CellOrderSource s = search.cell_order_source(k);
+        density[s.particle] = mass * sum(s);
+      } else {
+        density[k] = mass * sum(k);
+      }
+    }
+    template <class Source>
+    UNISPH_HOST_DEVICE T sum(Source source) const {
+      T total = w(T(0));
+      search.for_each_neighbor(source, [&](Index, const NeighborPair<T, D>& pair) { total += w(pair.distance()); });
+      return total;
     }
   };
   Kernel make_kernel(KernelContext& context) {
@@ -158,8 +168,9 @@ struct Case {
         cells(body.positions(), body.domain(), cutoff, OutsideParticles::clamp, cell_size_for(split)),
         relation(cells, method),
         density("Density", n),
-        summation(relation, density, n, order == morton_traversal) {
-    body.positions().assign(lattice(side, order == morton_traversal ? morton : order, split));
+        summation(relation, density, n, order == morton_traversal || order == morton_cell_points) {
+    body.positions().assign(lattice(side, order >= morton_traversal ? morton : order, split));
+    cells.store_positions_in_cell_order(order == morton_cell_points);
     cells.build(policy);
     const NeighborSearch<T, D> direct = relation.direct_search(policy);
     candidates = particle_reduce(policy, n, Sum<std::uint64_t>{}, CandidateCount<T, D>{direct});
@@ -261,12 +272,13 @@ void BM_MortonSort(benchmark::State& state) {
   state.counters["particles/s"] = benchmark::Counter(double(n) * double(state.iterations()), benchmark::Counter::kIsRate);
 }
 
-// order: 0 Morton, 1 random, 2 cell order; split: cells of cutoff / split. Host policies:
+// order: 0 Morton, 1 random, 2 cell order, 3 and 4 Morton visited in cell order (4: with the
+// cell-ordered copy of the positions); split: cells of cutoff / split. Host policies:
 // 10^6 everywhere, 10^7 on par; the device: 10^6, 4 x 10^6 and 10^7.
 template <class P>
 void host_sizes(benchmark::internal::Benchmark* b) {
   for (int split : {1, 2})
-    for (int order : {morton, random_order, cell_order}) {
+    for (int order : {morton, random_order, cell_order, morton_cell_points}) {
       b->Args({1000000, order, split});
       if (std::is_same_v<P, ParallelPolicy>) b->Args({10000000, order, split});
     }
@@ -274,7 +286,7 @@ void host_sizes(benchmark::internal::Benchmark* b) {
 }
 void device_sizes(benchmark::internal::Benchmark* b) {
   for (int split : {1, 2, 3})
-    for (int order : {morton, random_order, cell_order, morton_traversal})
+    for (int order : {morton, random_order, cell_order, morton_traversal, morton_cell_points})
       for (int n : {1000000, 4000000, 10000000}) b->Args({n, order, split});
   b->ArgNames({"n", "order", "split"})->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(0.2);
 }

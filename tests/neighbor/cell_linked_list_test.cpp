@@ -51,6 +51,21 @@ void check_structure(P policy, Layout layout) {
   if (layout == Layout::random) {
     EXPECT_FALSE(r.in_cell_order);
   }
+  // The positions copied into the list's order: exactly those of particles[k], in the padded
+  // layout, where the particles are not in cell order (otherwise nothing is copied).
+  cells.store_positions_in_cell_order();
+  cells.build(policy);
+  const auto same_particles = cells.particles().to_vector();
+  EXPECT_EQ(same_particles.size(), particles.size());
+  if (!ordered) {
+    const CellListView<T, D> view = cells.view(seq);
+    Index wrong = 0;
+    for (Index k = 0; k < n; ++k) {
+      const Vec<T, D> p = view.points[k].position();
+      wrong += !(p == s.positions[same_particles[k]]);
+    }
+    EXPECT_EQ(wrong, 0u);
+  }
 }
 
 UNISPH_POLICY_TEST_SUITE(CellListBuild);

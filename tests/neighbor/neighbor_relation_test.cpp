@@ -32,10 +32,18 @@ struct CollectNeighbors {
   View<std::uint32_t> found;
   View<std::uint32_t> counts;
   View<unsigned> errors;
-  UNISPH_HOST_DEVICE void operator()(Index i) const {
+  bool cell_order = false;  // visit the sources in the cell list's order (cell_order_source)
+  UNISPH_HOST_DEVICE void operator()(Index k) const {
+    if (cell_order)
+      visit(search.cell_order_source(k).particle, search.cell_order_source(k));
+    else
+      visit(k, k);
+  }
+  template <class Source>
+  UNISPH_HOST_DEVICE void visit(Index i, Source source) const {
     Index c = 0;
     const Vec<T, D> xi = search.sources[i];
-    search.for_each_neighbor(i, [&](Index j, const NeighborPair<T, D>& pair) {
+    search.for_each_neighbor(source, [&](Index j, const NeighborPair<T, D>& pair) {
       const Vec<T, D> r = xi - search.targets.positions[j];
       const T d = pair.distance();
       const Vec<T, D> e = pair.direction();
@@ -52,12 +60,13 @@ struct CollectNeighbors {
 };
 
 template <class T, int D, class P>
-NeighborSets collect(P policy, NeighborSearch<T, D> search, Index sources, Index capacity, unsigned& errors) {
+NeighborSets collect(P policy, NeighborSearch<T, D> search, Index sources, Index capacity, unsigned& errors,
+                     bool cell_order = false) {
   DiscreteVariable<std::uint32_t> found("found", sources * capacity), counts("counts", sources);
   DiscreteVariable<unsigned> error_count("errors", 1);
   particle_for(policy, sources,
                CollectNeighbors<T, D>{search, capacity, found.write(policy), counts.write(policy),
-                                      error_count.read_write(policy)});  // read_write: starts from zero
+                                      error_count.read_write(policy), cell_order});  // read_write: starts from zero
   const std::vector<std::uint32_t> f = found.to_vector(), c = counts.to_vector();
   errors = error_count.to_vector()[0];
   NeighborSets sets(sources);
@@ -125,6 +134,24 @@ void sort_by_cell(Scenario<T, D>& s, T cell_size) {
   });
 }
 
+// The sources visited in the cell list's order with the positions copied into that order: the
+// same sets as the reference, whatever the particles' own order (in cell order the copy is not
+// written and the search takes the contiguous walk instead). Switches the copy off again.
+template <class T, int D, class P>
+void check_cell_ordered_positions(P policy, DiscreteVariable<Vec<T, D>>& x, CellLinkedList<T, D>& cells,
+                                  const NeighborSets& expected) {
+  cells.store_positions_in_cell_order();
+  cells.build(policy);
+  InnerRelation<T, D> inner(cells, SearchMethod::direct);
+  unsigned errors = 0;
+  const NeighborSets got = collect(policy, inner.search(policy), x.size(), capacity_for(expected), errors, true);
+  EXPECT_EQ(errors, 0u);
+  EXPECT_TRUE(got == expected) << "cell-ordered positions: " << pair_count(got) << " pairs, expected "
+                               << pair_count(expected);
+  cells.store_positions_in_cell_order(false);
+  cells.build(policy);
+}
+
 template <class T, int D, class P>
 void check_layouts(P policy) {
   for (int split : {1, 2, 3})
@@ -153,6 +180,8 @@ void check_layouts(P policy) {
       EXPECT_TRUE(got == expected) << "inner: " << pair_count(got) << " pairs, expected " << pair_count(expected);
       if (method == SearchMethod::stored) {
         EXPECT_EQ(inner.stored_lists().pair_count(), pair_count(expected));
+      } else {
+        check_cell_ordered_positions(policy, x, cells, expected);
       }
       if (layout == Layout::lattice_on_faces) {  // 26 (3D) or 8 (2D) neighbours inside, pairs at the cutoff excluded
         EXPECT_EQ(expected[x.size() / 2].size(), D == 3 ? 26u : 8u);
@@ -415,6 +444,7 @@ void check_outside(P policy, OutsideParticles mode) {
     const NeighborSets got = collect(policy, inner.search(policy), x.size(), capacity_for(expected), errors);
     EXPECT_EQ(errors, 0u);
     EXPECT_TRUE(got == expected) << pair_count(got) << " pairs, expected " << pair_count(expected);
+    if (method == SearchMethod::direct) check_cell_ordered_positions(policy, x, cells, expected);
   }
   }
 }

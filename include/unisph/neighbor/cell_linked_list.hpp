@@ -14,6 +14,16 @@
 // host wait) and the direct search then reads positions contiguously, without the indirection
 // through `particles`, in ascending j (a deterministic order).
 //
+// On request (store_positions_in_cell_order) the build also writes a copy of the positions in
+// the list's order, padded to 16 bytes in 3D float (CellPoint), for particles that are not in
+// cell order (e.g. in Morton order): a search that visits its sources in the list's order
+// (NeighborSearch::cell_order_source) then reads each row of cells as one contiguous range with
+// one aligned load per candidate, as it does for particles in cell order. The copy holds the
+// positions of the build: a search through it measures r_ij at that configuration (as stored
+// lists do), which is what a pass that follows the build at once, or a dual-time-stepping step,
+// wants. It costs a bucket-ordered write per particle in the build and sizeof(CellPoint) bytes
+// per particle (16 in 3D float, 32 in 3D double, 8 and 16 in 2D).
+//
 // Positions outside the box or with a NaN coordinate are never undefined behaviour: they are
 // counted (report()) and, as the caller chooses, either clamped into the border cell
 // (OutsideParticles::clamp: still found as neighbours where within the cutoff) or put in a
@@ -46,6 +56,26 @@ struct CellListReport {
   bool in_cell_order = false;  // the particles were in cell order (see the header comment)
 };
 
+// A position as the cell-ordered copy holds it: the D coordinates padded to a power-of-two
+// number of components, aligned to its size, so that the device fetches it with one vector
+// load (two in 3D double).
+template <class T, int D>
+struct alignas(sizeof(T) * (D == 3 ? 4 : D)) CellPoint {
+  static_assert(D == 2 || D == 3, "CellPoint is the padded position of a 2D or 3D search grid.");
+  static constexpr int padded = D == 3 ? 4 : D;
+  T v[padded];
+  UNISPH_HOST_DEVICE static CellPoint of(const Vec<T, D>& x) {
+    CellPoint p{};
+    for (int a = 0; a < D; ++a) p.v[a] = x[a];
+    return p;
+  }
+  UNISPH_HOST_DEVICE Vec<T, D> position() const {
+    Vec<T, D> x;
+    for (int a = 0; a < D; ++a) x[a] = v[a];
+    return x;
+  }
+};
+
 // What kernels hold: the grid and read-only views of the CSR arrays.
 template <class T, int D>
 struct CellListView {
@@ -55,6 +85,9 @@ struct CellListView {
   View<const std::uint32_t> offsets;    // cell_count() + 2: the cells, the flagged bucket, the end
   View<const std::uint32_t> particles;  // particle indices grouped by cell
   View<const unsigned long long> counters;  // [3] != 0: the particles are not in cell order
+  // The positions at the build in the order of `particles` (empty unless asked for, and not
+  // written when the particles are in cell order: see the header comment).
+  View<const CellPoint<T, D>> points;
 
   UNISPH_HOST_DEVICE Index flagged_bucket() const { return offsets.size() - 2; }
   // True when the particles of cell c are exactly the indices offsets[c] .. offsets[c + 1].
@@ -129,6 +162,22 @@ struct FillCells {
   }
 };
 
+// The positions copied into the list's order, unless the particles are already in cell order
+// (counters[3] == 0: set by CheckCellOrder, which ran before). A gather after the fill: the
+// writes are contiguous and the reads follow the particles of each cell (measured on an H100
+// against writing the copy from the fill, a scatter of 16-byte elements: see
+// docs/neighbor_search.md).
+template <class T, int D>
+struct CopyPointsInCellOrder {
+  View<const std::uint32_t> particles;
+  View<const Vec<T, D>> positions;
+  View<const unsigned long long> counters;
+  View<CellPoint<T, D>> points;
+  UNISPH_HOST_DEVICE void operator()(Index k) const {
+    if (counters[3] != 0) points[k] = CellPoint<T, D>::of(positions[particles[k]]);
+  }
+};
+
 }  // namespace cell_list_detail
 
 template <class T, int D>
@@ -148,7 +197,16 @@ class CellLinkedList {
         particles_(positions.name() + ".CellParticles"),
         bucket_of_(positions.name() + ".CellOfParticle"),
         slot_of_(positions.name() + ".SlotInCell"),
-        counters_(positions.name() + ".CellListCounters", 4) {}
+        counters_(positions.name() + ".CellListCounters", 4),
+        points_(positions.name() + ".CellOrderedPositions") {}
+
+  // Also keep a copy of the positions in the list's order at each build (see the header
+  // comment); takes effect at the next build.
+  void store_positions_in_cell_order(bool store = true) {
+    store_points_ = store;
+    if (!store) points_.resize(0);
+  }
+  bool stores_positions_in_cell_order() const { return store_points_; }
 
   const SearchGrid<T, D>& grid() const { return grid_; }
   OutsideParticles outside_particles() const { return outside_; }
@@ -183,6 +241,12 @@ class CellLinkedList {
     particle_for(policy, n,
                  cell_list_detail::FillCells{bucket_of_.read(policy), slot_of_.read(policy), offsets,
                                              particles_.write(policy)});
+    if (store_points_) {
+      points_.resize(n);
+      particle_for(policy, n,
+                   cell_list_detail::CopyPointsInCellOrder<T, D>{particles_.read(policy), positions_.read(policy),
+                                                                 counters, points_.write(policy)});
+    }
     built_count_ = n;
     ++builds_;
   }
@@ -201,12 +265,14 @@ class CellLinkedList {
   template <ExecutionPolicy P>
   CellListView<T, D> view(P) {
     return {grid_, outside_ == OutsideParticles::flag, positions_.read(P::space), offsets_.read(P::space),
-            particles_.read(P::space), counters_.read(P::space)};
+            particles_.read(P::space), counters_.read(P::space),
+            store_points_ ? points_.read(P::space) : View<const CellPoint<T, D>>{}};
   }
   // The same through a kernel shell's context, which records the variables it views.
   CellListView<T, D> view(KernelContext& context) {
     return {grid_, outside_ == OutsideParticles::flag, context.read(positions_), context.read(offsets_),
-            context.read(particles_), context.read(counters_)};
+            context.read(particles_), context.read(counters_),
+            store_points_ ? context.read(points_) : View<const CellPoint<T, D>>{}};
   }
 
  private:
@@ -218,6 +284,8 @@ class CellLinkedList {
   DiscreteVariable<std::uint32_t> bucket_of_;
   DiscreteVariable<std::uint32_t> slot_of_;
   DiscreteVariable<unsigned long long> counters_;
+  DiscreteVariable<CellPoint<T, D>> points_;
+  bool store_points_ = false;
   Index built_count_ = 0;
   std::uint64_t builds_ = 0;
 };

@@ -42,6 +42,13 @@
 
 namespace unisph {
 
+// A source of an inner relation taken in the cell list's order: its place in that order
+// (`slot`, the position in CellListView::particles) and its particle index.
+struct CellOrderSource {
+  Index slot;
+  Index particle;
+};
+
 template <class T, int D>
 struct NeighborSearch {
   View<const Vec<T, D>> sources;  // x_i
@@ -67,6 +74,34 @@ struct NeighborSearch {
   // where the particles are not stored in cell order (e.g. in Morton order).
   UNISPH_HOST_DEVICE Index source_in_cell_order(Index k) const {
     return targets.in_cell_order() ? k : Index(targets.particles[k]);
+  }
+
+  // The same as a CellOrderSource, for the overload of for_each_neighbor below.
+  UNISPH_HOST_DEVICE CellOrderSource cell_order_source(Index k) const { return {k, source_in_cell_order(k)}; }
+
+  // f(j, pair) for every neighbour of s.particle. Where the cell list keeps its positions in
+  // cell order (CellLinkedList::store_positions_in_cell_order) and the particles are not in cell
+  // order themselves, the direct search reads x_i and the candidates from that copy: a row of
+  // cells is one contiguous range, one aligned load per candidate, and j is loaded only for the
+  // pairs within the cutoff. The pairs and their geometry are then those of the positions at the
+  // build (the same as for_each_neighbor(s.particle, f) while the particles have not moved since).
+  template <class F>
+  UNISPH_NEIGHBOR_LOOP UNISPH_HOST_DEVICE void for_each_neighbor(CellOrderSource s, F&& f) const {
+    if (uses_stored_lists() || !inner || targets.points.empty() || targets.in_cell_order()) {
+      for_each_neighbor(s.particle, f);
+      return;
+    }
+    const Vec<T, D> xi = targets.points[s.slot].position();
+    for_each_candidate_range(xi, [&](std::uint32_t begin, std::uint32_t end) {
+      for (std::uint32_t k = begin; k < end; ++k) {
+        if (k == s.slot) continue;  // i itself: its one place in the list
+        NeighborPair<T, D> pair;
+        if (targets.grid.test_pair(xi, targets.points[k].position(), pair.r_ij, pair.squared_distance)) {
+          pair.complete();
+          f(Index(targets.particles[k]), static_cast<const NeighborPair<T, D>&>(pair));
+        }
+      }
+    });
   }
 
   // f(j, pair, w) for every neighbour, with w = weight(pair). Stored lists that carry a weight
