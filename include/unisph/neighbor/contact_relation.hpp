@@ -8,124 +8,23 @@
 //   ContactRelation<T, 3> fluid_wall(fluid.positions(), wall_cells);
 //   wall_cells.build(policy); fluid_wall.update(policy);
 //   fluid_wall.search(context).for_each_neighbor(i, ...)   // j indexes the wall's particles
+//
+// The rest of the interface is NeighborRelation's (neighbor_relation.hpp).
 
-#include <cstdint>
-#include <string>
-
-#include "unisph/dynamics/kernel_context.hpp"
-#include "unisph/neighbor/search_method.hpp"
-#include "unisph/neighbor/stored_neighbor_lists.hpp"
+#include "unisph/neighbor/neighbor_relation.hpp"
 
 namespace unisph {
 
 template <class T, int D>
-class ContactRelation {
+class ContactRelation : public NeighborRelation<T, D> {
  public:
   ContactRelation(DiscreteVariable<Vec<T, D>>& sources, CellLinkedList<T, D>& targets,
                   SearchMethod method = SearchMethod::automatic)
-      : sources_(sources),
-        targets_(targets),
-        method_(method),
-        lists_(sources.name() + ".ContactWith." + targets.positions().name()) {}
+      : NeighborRelation<T, D>(sources, targets, false, method,
+                               "ContactRelation of '" + sources.name() + "' with '" + targets.positions().name() + "'",
+                               sources.name() + ".ContactWith." + targets.positions().name()) {}
 
-  CellLinkedList<T, D>& target_cell_list() { return targets_; }
-  template <ExecutionPolicy P>
-  SearchMethod method(P policy) const { return resolve_search_method(method_, policy); }
-  void set_method(SearchMethod method) { method_ = method; }
-  // Sources are particles [0, source_count) of the source body; by default all of them.
-  void set_source_count(Index count) { source_count_ = count; }
-  Index source_count() const { return source_count_ == unset ? sources_.size() : source_count_; }
-
-  // Call after the target cell list was built and before the kernels that use search().
-  template <ExecutionPolicy P>
-  void update(P policy) {
-    if (method(policy) == SearchMethod::stored) {
-      lists_.build(policy, direct_search(policy), source_count());
-      lists_built_from_ = targets_.builds();
-    }
-  }
-
-  // As update(policy), and with stored lists also their weight column: weight(pair) for each
-  // pair, for kernels that ask for it with search(context, weight) and read it through
-  // NeighborSearch::for_each_weighted_neighbor (a direct search computes it pair by pair).
-  template <ExecutionPolicy P, class W>
-  void update(P policy, const W& weight) {
-    update(policy);
-    if (method(policy) == SearchMethod::stored) lists_.fill_weights(policy, weight);
-  }
-
-  template <ExecutionPolicy P>
-  NeighborSearch<T, D> search(P policy) {
-    NeighborSearch<T, D> s = direct_search(policy);
-    if (method(policy) == SearchMethod::stored) {
-      check_lists(P::space);
-      s.list_counts = lists_.counts().read(P::space);
-      s.list_neighbors = lists_.neighbors().read(P::space);
-      s.list_pairs = lists_.pairs().read(P::space);
-      s.list_source_stride = lists_.source_stride(P::space);
-      s.list_slot_stride = lists_.slot_stride(P::space);
-    }
-    return s;
-  }
-  NeighborSearch<T, D> search(KernelContext& context) {
-    NeighborSearch<T, D> s{context.read(sources_), targets_.view(context), false, {}, {}, {}, 0, 0, {}};
-    const bool stored = context.space() == MemorySpace::device
-                            ? method(ParallelDevicePolicy{}) == SearchMethod::stored
-                            : method(ParallelPolicy{}) == SearchMethod::stored;
-    if (stored) {
-      check_lists(context.space());
-      s.list_counts = context.read(lists_.counts());
-      s.list_neighbors = context.read(lists_.neighbors());
-      s.list_pairs = context.read(lists_.pairs());
-      s.list_source_stride = lists_.source_stride(context.space());
-      s.list_slot_stride = lists_.slot_stride(context.space());
-    }
-    return s;
-  }
-
-  // search(policy) / search(context), with the lists' weight column when it holds `weight`
-  // for the current lists (else a weighted loop computes the weights).
-  template <ExecutionPolicy P, class W>
-  NeighborSearch<T, D> search(P policy, const W& weight) {
-    NeighborSearch<T, D> s = search(policy);
-    if (s.uses_stored_lists() && lists_.has_weights_of(weight)) s.list_weights = lists_.weights().read(P::space);
-    return s;
-  }
-  template <class W>
-  NeighborSearch<T, D> search(KernelContext& context, const W& weight) {
-    NeighborSearch<T, D> s = search(context);
-    if (s.uses_stored_lists() && lists_.has_weights_of(weight)) s.list_weights = context.read(lists_.weights());
-    return s;
-  }
-
-  StoredNeighborLists<T, D>& stored_lists() { return lists_; }
-
-  // A direct search whatever the method (what the stored lists are built from).
-  template <ExecutionPolicy P>
-  NeighborSearch<T, D> direct_search(P policy) {
-    return {sources_.read(policy), targets_.view(policy), false, {}, {}, {}, 0, 0, {}};
-  }
-
- private:
-  static constexpr Index unset = ~Index(0);
-
-  void check_lists(MemorySpace space) {
-    if (lists_.source_count() != source_count() || lists_built_from_ != targets_.builds())
-      throw Error("ContactRelation of '" + sources_.name() + "' with '" + targets_.positions().name() +
-                  "': stored neighbour lists are used but update(policy) was not called after the last build of "
-                  "the cell list");
-    if (lists_.built_in() != space)
-      throw Error(std::string("ContactRelation of '" + sources_.name() + "'") +
-                  ": stored neighbour lists are laid out for the space they were built in; call update() with a "
-                  "policy of the space whose kernels read them");
-  }
-
-  DiscreteVariable<Vec<T, D>>& sources_;
-  CellLinkedList<T, D>& targets_;
-  SearchMethod method_;
-  StoredNeighborLists<T, D> lists_;
-  Index source_count_ = unset;
-  std::uint64_t lists_built_from_ = ~std::uint64_t(0);
+  CellLinkedList<T, D>& target_cell_list() { return this->targets_; }
 };
 
 }  // namespace unisph
