@@ -49,12 +49,15 @@ Outcome relax(P policy, const std::string& file, Real dx, int iterations) {
   return o;
 }
 
-// Measured (double, seq and par, 600 iterations of FIRE, the quench from iteration 240): mean
-// 334.3x, p99 786.3x, max 590.8x, kernel sum within 3 % at 100 % of the particles, largest phi
-// -1.4e-2 (all inside), area unchanged. Asserted: the issue's factors (100x, 30x, 10x).
+// Measured (double, seq and par, 1000 iterations of FIRE, the quench from iteration 400): mean
+// 304.0x, p99 364.4x, max 253.2x, kernel sum within 3 % at 100 % of the particles, largest phi
+// below 0 (all inside), area unchanged. Asserted: the issue's factors (100x, 30x, 10x). (With the
+// sub-cell kernel integrals, 600 iterations gave 101.6x in the mean, too close to the bound for a
+// trajectory that parts from seq's on round-off: docs/particle_generation.md.)
+constexpr int annulus_iterations = 1000;
 TYPED_TEST(Relaxation, AnnulusPolygonWithAHole) {
   const Real dx = Real(0.05);
-  const Outcome o = relax<2>(this->policy, "annulus.poly", dx, 600);
+  const Outcome o = relax<2>(this->policy, "annulus.poly", dx, annulus_iterations);
   EXPECT_GE(o.lattice.mean_error / o.relaxed.mean_error, 100.0);
   EXPECT_GE(o.lattice.p99_error / o.relaxed.p99_error, 30.0);
   EXPECT_GE(o.lattice.max_error / o.relaxed.max_error, 10.0);
@@ -65,7 +68,7 @@ TYPED_TEST(Relaxation, AnnulusPolygonWithAHole) {
   EXPECT_NEAR(o.relaxed.total_volume / o.enclosed, 1.0, 0.01);
   if constexpr (!std::is_same_v<TypeParam, SequencedPolicy>) {
     // The issue: after the full run, residual and volume within 1 % of seq's.
-    const Outcome reference = relax<2>(seq, "annulus.poly", dx, 600);
+    const Outcome reference = relax<2>(seq, "annulus.poly", dx, annulus_iterations);
     EXPECT_NEAR(o.relaxed.mean_error / reference.relaxed.mean_error, 1.0, 0.01);
     EXPECT_NEAR(o.relaxed.total_volume / reference.relaxed.total_volume, 1.0, 0.01);
   }

@@ -133,7 +133,7 @@ class LevelSetLayer {
     data_point_for(policy, mesh,
                    KernelIntegralsAtDataPoints<D>{phi.read(policy), normal.read(policy), mesh.neighbourhood.read(policy),
                                                   weight, gradient, HalfSpaceKernelIntegral<D>{kernel}, dx,
-                                                  kernel.lattice_sum(dx)});
+                                                  sub_cell_lattice_sum<D>(kernel, dx)});
     fence(policy);
   }
 
