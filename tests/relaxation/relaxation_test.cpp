@@ -50,7 +50,7 @@ Outcome relax(P policy, const std::string& file, Real dx, int iterations) {
 }
 
 // Measured (double, seq and par, 1000 iterations: FIRE, its quench from iteration 400, plain
-// descent from 900): mean 341.6x, p99 371.3x, max 150.5x, kernel sum within 3 % at 100 % of the particles, largest phi
+// descent from 900): mean 372.3x, p99 383.3x, max 173.1x, kernel sum within 3 % at 100 % of the particles, largest phi
 // below 0 (all inside), area unchanged. Asserted: the factors (100x, 30x, 10x). (With the
 // sub-cell kernel integrals, 600 iterations gave 101.6x in the mean, too close to the bound for a
 // trajectory that parts from seq's on round-off: docs/particle_generation.md.)

@@ -41,7 +41,8 @@
 // it rose monotonically to 167x at 1000 (measured, docs/particle_generation.md). From the start
 // it is slower (84x at 1000): the global inertia is what takes the particles off the lattice.
 // The final descent (final_descent, the last 10 % of the iterations): plain descent x += β a
-// instead of FIRE. FIRE stops with the particles still moving, and where in that motion it stops
+// instead of FIRE, β from final_descent_step h² and halved whenever the mean error rises (a fixed
+// 0.25 h² or 0.1 h² blew up on teapot.stl at dx 0.28). FIRE stops with the particles still moving, and where in that motion it stops
 // decides the final error: on plate_with_holes.poly (1500 iterations) the mean error of runs
 // whose start differed by 1e-13 dx ranged over 3.49e-5..5.76e-5; with the final descent they end
 // at 2.97e-5..2.99e-5 (measured, docs/particle_generation.md).
@@ -92,6 +93,7 @@ struct RelaxationSettings {
   // monotonically and settles them in the minimum they are near, so the final error no longer
   // depends on where in its oscillation FIRE stopped (see move()).
   Real final_descent = Real(0.1);
+  Real final_descent_step = Real(0.25);  // its largest β / h² (halved when the error rises; move())
 };
 
 // One row of the history: the state before the iteration's move.
@@ -208,11 +210,21 @@ class ParticleRelaxation {
     use_surface(policy);
     const Real h = kernel_.h;
     const Real largest = measured.max_error * Real(2) / h;  // max |a|
-    Real step = settings.step_coefficient * h * h;
-    if (largest * step > settings.largest_move * h) step = settings.largest_move * h / largest;
     const int descent_from = settings.iterations - int(settings.final_descent * Real(settings.iterations));
-    const bool final_descent = settings.final_descent > Real(0) && measured.iteration >= descent_from;
+    const bool final_descent = settings.fire && settings.final_descent > Real(0) && measured.iteration >= descent_from;
     if (settings.fire && !final_descent) return move_fire(policy, settings, measured.iteration);
+    Real step = settings.step_coefficient * h * h;
+    if (final_descent) {
+      // β starts at final_descent_step h² and halves whenever the mean error rose since the last
+      // step (a stiffer spot than the lattice's makes a fixed β unstable: measured on teapot.stl),
+      // growing back by 5 % a step while it falls.
+      if (descent_step_ <= Real(0)) descent_step_ = settings.final_descent_step * h * h;
+      else if (measured.mean_error > descent_error_) descent_step_ *= Real(0.5);
+      else descent_step_ = std::min(descent_step_ * Real(1.05), settings.final_descent_step * h * h);
+      descent_error_ = measured.mean_error;
+      step = descent_step_;
+    }
+    if (largest * step > settings.largest_move * h) step = settings.largest_move * h / largest;
     if (settings.momentum != step_->momentum()) step_->set_momentum(settings.momentum);
     step_->set_descent();
     step_->exec(policy, step);
@@ -314,6 +326,7 @@ class ParticleRelaxation {
   std::unique_ptr<ResidualNorms<D>> norms_;
   std::unique_ptr<PowerAndNorms<D>> power_;
   Real fire_step_ = Real(0), fire_mixing_ = Real(0);
+  Real descent_step_ = Real(0), descent_error_ = Real(0);
   int fire_positive_ = 0;
   std::unique_ptr<SurfaceDistance<D>> surface_distance_;
   int surface_space_ = -1;
