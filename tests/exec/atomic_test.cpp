@@ -64,6 +64,44 @@ TYPED_TEST(Atomic, FetchAddHandsOutEveryTicketOnce) {
   EXPECT_EQ(counter.to_vector()[0], n);
 }
 
+// Item i increments counter key(i): runs of equal keys (as in a cell list of sorted
+// particles), single items, alternating keys and keys that come back in a later run.
+struct TakeSharedTicket {
+  View<unsigned> counters;
+  View<unsigned> ticket;
+  View<const unsigned> key;
+  UNISPH_HOST_DEVICE void operator()(Index i) const { ticket[i] = atomic_increment_shared(&counters[key[i]]); }
+};
+
+TYPED_TEST(Atomic, SharedIncrementHandsOutEveryTicketOncePerCounter) {
+  const Index n = 200'003;
+  std::vector<unsigned> keys(n);
+  for (Index i = 0; i < n; ++i) {
+    const Index block = i / 1000;
+    switch (block % 5) {
+      case 0: keys[i] = unsigned(i / 17) % 50; break;        // runs of 17, keys repeating later
+      case 1: keys[i] = unsigned(i) % 50; break;             // every item its own run
+      case 2: keys[i] = unsigned(i / 2) % 2; break;          // runs of 2 of two alternating keys
+      case 3: keys[i] = 7; break;                            // one counter for 1000 items
+      default: keys[i] = unsigned((i * 2654435761u) >> 7) % 50; break;  // scattered
+    }
+  }
+  DiscreteVariable<unsigned> counters("counters", 50), ticket("ticket", n), key("key");
+  key.assign(keys);
+  particle_for(this->policy, n,
+               TakeSharedTicket{counters.read_write(this->policy), ticket.write(this->policy), key.read(this->policy)});
+  const std::vector<unsigned> t = ticket.to_vector(), c = counters.to_vector();
+  std::vector<std::vector<unsigned>> per_key(50);
+  for (Index i = 0; i < n; ++i) per_key[keys[i]].push_back(t[i]);
+  Index wrong = 0;
+  for (unsigned k = 0; k < 50; ++k) {
+    std::sort(per_key[k].begin(), per_key[k].end());
+    for (Index m = 0; m < per_key[k].size(); ++m) wrong += per_key[k][m] != m;
+    wrong += c[k] != per_key[k].size();
+  }
+  EXPECT_EQ(wrong, 0u);
+}
+
 template <class T, class P>
 void check_min_max(P policy) {
   const Index n = 1'000'003;

@@ -101,6 +101,35 @@ UNISPH_HOST_DEVICE void atomic_add(T* address, T value) {
   (void)atomic_fetch_add(address, value);
 }
 
+// atomic_fetch_add(counter, 1u) for counters that neighbouring threads often share (a cell's
+// particle count when the particles are sorted): the old value, distinct and contiguous for
+// every thread that increments the same counter. On the device a run of consecutive lanes of a
+// warp that increment the same counter shares one atomic: the run's first lane adds the run's
+// length, each lane takes its place in the run. A counter that appears in two runs of a warp
+// gets two atomics, still correct. Runs rather than __match_any_sync: in random order every
+// lane is a run of its own, and the match costs more than the few instructions here (measured
+// on an H100, docs/neighbor_search.md).
+UNISPH_HOST_DEVICE inline unsigned atomic_increment_shared(unsigned* counter) {
+#if defined(__CUDA_ARCH__)
+  const unsigned active = __activemask();
+  if (active != 0xffffffffu) return atomicAdd(counter, 1u);  // a partial warp: no neighbours to trust
+  unsigned lane;
+  asm("mov.u32 %0, %%laneid;" : "=r"(lane));
+  const unsigned long long address = reinterpret_cast<unsigned long long>(counter);
+  const unsigned long long previous = __shfl_up_sync(active, address, 1);
+  const unsigned heads = __ballot_sync(active, lane == 0 || previous != address);
+  const unsigned head = 31u - static_cast<unsigned>(__clz(heads & (0xffffffffu >> (31u - lane))));
+  const unsigned after = heads & ~(0xffffffffu >> (31u - lane));  // heads above this lane
+  const unsigned end = after ? static_cast<unsigned>(__ffs(after)) - 1u : 32u;
+  unsigned base = 0;
+  if (lane == head) base = atomicAdd(counter, end - head);
+  base = __shfl_sync(active, base, head);
+  return base + (lane - head);
+#else
+  return std::atomic_ref<unsigned>(*counter).fetch_add(1u, std::memory_order_relaxed);
+#endif
+}
+
 template <class T>
 UNISPH_HOST_DEVICE T atomic_min(T* address, T value) {
   static_assert(detail::atomic_supported_v<T>,
