@@ -71,7 +71,8 @@ struct NeighborSearch {
   // for an inner relation, whose sources are the cell list's particles. A kernel that takes its
   // i this way, i = source_in_cell_order(k) for k in [0, n), visits every particle once, and
   // the lanes of a warp then hold particles of the same cells, which walk the same rows, even
-  // where the particles are not stored in cell order (e.g. in Morton order).
+  // where the particles are not stored in cell order (e.g. in Morton order). k runs over every
+  // particle of the cell list, ghosts included: a set with ghosts skips i >= its owned count.
   UNISPH_HOST_DEVICE Index source_in_cell_order(Index k) const {
     return targets.in_cell_order() ? k : Index(targets.particles[k]);
   }
