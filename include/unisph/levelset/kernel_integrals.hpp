@@ -23,7 +23,7 @@
 //     taken linear from each cell's own point, the integrals next to a convex corner came out
 //     short of that region's (by up to 0.1 in weight on plate_with_holes.poly at dx 0.1), so
 //     the particle at each corner was pushed out of the body and held on the surface by the
-//     bounding with a residual 20x its neighbours' (docs/particle_generation.md, "Corners").
+//     bounding with a residual 23-80x the next largest (docs/particle_generation.md, "Corners").
 // The kernel is Wendland C2 with the smoothing length given; the sum reaches at most 3 data
 // points each way (the interpolation then stays inside the 3^D packages around a point), so on
 // a layer whose spacing is too coarse for the cutoff the far end of the support is left to the
