@@ -71,9 +71,10 @@ bool same_bits(const T& a, const T& b) {
   return std::memcmp(&a, &b, sizeof(T)) == 0;
 }
 
-// Measured (double, seq and par, 1000 iterations: FIRE, its quench from iteration 400, plain
-// descent from 900): mean 372.3x, p99 383.3x, max 173.1x, kernel sum within 3 % at 100 % of the particles, largest phi
-// below 0 (all inside), area unchanged. Asserted: the factors (100x, 30x, 10x). (With the
+// Measured (double, seq, par and the GPU alike, 1000 iterations: FIRE, its quench from iteration
+// 400, plain descent from 900): mean 363.8x, p99 380.9x, max 165.1x, kernel sum within 3 % at
+// 100 % of the particles, largest phi below 0 (all inside), area unchanged; float 709.5x,
+// 697.3x, 989.8x. Asserted: the factors (100x, 30x, 10x). (With the
 // sub-cell kernel integrals, 600 iterations gave 101.6x in the mean, too close to the bound for a
 // trajectory that parts from seq's on round-off: docs/particle_generation.md.)
 constexpr int annulus_iterations = 1000;
