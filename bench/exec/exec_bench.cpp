@@ -1,6 +1,7 @@
 // Benchmarks of the execution core on every policy this build has:
 //   Triad           a = b + s c via particle_for          GB/s (bytes read + written: 3 N sizeof(Real))
 //   Reduce          sum of a via particle_reduce           GB/s (N sizeof(Real) read)
+//   DeterministicReduce  the same via deterministic_reduce (one association on every policy)
 //   Scan            exclusive_scan of uint32               items/s (and GB/s: 2 N 4 bytes)
 //   SortPairs       sort_pairs of uint32 keys + values     keys/s
 // and the references they are judged against, measured in the same run:
@@ -94,6 +95,20 @@ void Reduce(benchmark::State& state) {
   // with GCC that can hand back a wrong value (google/benchmark#903, GCC PR 92597).
   volatile Real sink = 0;
   for (auto _ : state) sink = particle_reduce(P{}, n, Sum<Real>{}, f);  // a host value: includes the wait
+  (void)sink;
+  state.SetBytesProcessed(state.iterations() * int64_t(n * sizeof(Real)));
+  label<P>(state);
+}
+
+template <class P>
+void DeterministicReduce(benchmark::State& state) {
+  if (skip_unavailable<P>(state)) return;
+  const Index n = static_cast<Index>(state.range(0));
+  DiscreteVariable<Real> a("a", n);
+  fill(a, 1);
+  const ValueOf f{a.read(P{})};
+  volatile Real sink = 0;
+  for (auto _ : state) sink = deterministic_reduce(P{}, n, Sum<Real>{}, f);  // a host value: includes the wait
   (void)sink;
   state.SetBytesProcessed(state.iterations() * int64_t(n * sizeof(Real)));
   label<P>(state);
@@ -320,6 +335,7 @@ constexpr int64_t smallest = 100'000, largest = 100'000'000;
 #define UNISPH_EXEC_BENCHMARKS(Policy)                                                                  \
   BENCHMARK_TEMPLATE(Triad, Policy)->RangeMultiplier(10)->Range(smallest, largest)->UseRealTime();    \
   BENCHMARK_TEMPLATE(Reduce, Policy)->RangeMultiplier(10)->Range(smallest, largest)->UseRealTime();   \
+  BENCHMARK_TEMPLATE(DeterministicReduce, Policy)->RangeMultiplier(10)->Range(smallest, largest)->UseRealTime(); \
   BENCHMARK_TEMPLATE(Scan, Policy)->RangeMultiplier(10)->Range(smallest, largest)->UseRealTime();     \
   BENCHMARK_TEMPLATE(SortPairs, Policy)->RangeMultiplier(10)->Range(smallest, largest)->Arg(1 << 24)->UseManualTime(); \
   BENCHMARK_TEMPLATE(Compute, Policy)->Arg(1'000'000)->UseRealTime();

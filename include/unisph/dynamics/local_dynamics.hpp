@@ -8,6 +8,9 @@
 //                                                               (neighbour relations plug in here)
 //   ReduceDynamics<M, Op>    Kernel::reduce(i, dt) -> T         exec returns the Op-combination
 //                                                               (passed through M::finish(T) if M has one)
+//   ReduceDynamics<M, Op, ReduceOrder::fixed>                  the same with deterministic_reduce: the
+//                                                               same bits on every policy (for results
+//                                                               that steer a computation, e.g. FIRE's power)
 
 #include <type_traits>
 
@@ -59,15 +62,23 @@ class InteractionDynamics : public KernelShell<Method> {
   }
 };
 
-template <class Method, class Op>
+// per_policy: particle_reduce (reproducible run to run on each policy); fixed: deterministic_reduce.
+enum class ReduceOrder { per_policy, fixed };
+
+template <class Method, class Op, ReduceOrder Order = ReduceOrder::per_policy>
 class ReduceDynamics : public KernelShell<Method> {
  public:
   template <ExecutionPolicy P>
   auto exec(P policy, Real dt = Real(0)) {
     using Kernel = typename Method::Kernel;
     const Kernel& k = this->kernel(policy);
-    auto result = particle_reduce(policy, static_cast<const Method&>(*this).size(), Op{},
-                                  detail::ReduceLaunch<Kernel>{k, dt});
+    const Index n = static_cast<const Method&>(*this).size();
+    auto result = [&] {
+      if constexpr (Order == ReduceOrder::fixed)
+        return deterministic_reduce(policy, n, Op{}, detail::ReduceLaunch<Kernel>{k, dt});
+      else
+        return particle_reduce(policy, n, Op{}, detail::ReduceLaunch<Kernel>{k, dt});
+    }();
     if constexpr (requires(Method& m) { m.finish(result); })
       return static_cast<Method&>(*this).finish(result);
     else

@@ -4,6 +4,8 @@
 //   particle_for(policy, n, kernel)                    kernel(i) for i in [0, n)
 //   particle_reduce(policy, n, op, f)                  op-combination of f(i); op = Sum<T>, Min<T>, Max<T>...
 //   particle_reduce(policy, n, identity, op, f)        any associative op with its identity
+//   deterministic_reduce(policy, n, op, f)             the same with one association on every policy:
+//   deterministic_reduce(policy, n, identity, op, f)   the same bits on seq, par and the GPU
 //   exclusive_scan(policy, in, out)                    out[i] = in[0] + ... + in[i-1]; out may be in;
 //                                                      out.size() == n + 1 also writes the total to out[n]
 //   sort_pairs(policy, keys, values [, begin_bit, end_bit])   stable radix sort by unsigned 32/64-bit keys
@@ -82,6 +84,30 @@ auto particle_reduce(P policy, Index n, const Op& op, const F& f) {
                 "this particle_reduce needs an operation that knows its identity (Sum<T>, Min<T>, Max<T>); for other "
                 "operations call particle_reduce(policy, n, identity, op, f).");
   return particle_reduce(policy, n, Op::identity(), op, f);
+}
+
+// particle_reduce's association depends on the policy (par: oneTBB's deterministic split; GPU:
+// one wave of blocks), so a floating-point sum differs in the last bits between policies, which
+// is enough to part trajectories that take decisions on it (FIRE's power in the relaxation).
+// deterministic_reduce combines in the one association of backend/reduction_tree.hpp on every
+// backend: a floating-point result has the same bits on every policy and for any thread count,
+// provided f(i) has (docs/architecture.md). It costs a pass over a small array more than
+// particle_reduce on the host and one launch per level on the GPU.
+template <ExecutionPolicy P, class T, class Op, class F>
+T deterministic_reduce(P, Index n, T identity, const Op& op, const F& f) {
+  detail::check_kernel<F>();
+  static_assert(std::is_trivially_copyable_v<T> && std::is_trivially_copyable_v<Op>,
+                "deterministic_reduce moves partial results and the operation between threads and devices byte for "
+                "byte, so the value type and the operation must be trivially copyable.");
+  return backend::Backend<P>::deterministic_reduce(n, identity, op, f);
+}
+
+template <ExecutionPolicy P, class Op, class F>
+auto deterministic_reduce(P policy, Index n, const Op& op, const F& f) {
+  static_assert(requires { Op::identity(); },
+                "this deterministic_reduce needs an operation that knows its identity (Sum<T>, Min<T>, Max<T>); for "
+                "other operations call deterministic_reduce(policy, n, identity, op, f).");
+  return deterministic_reduce(policy, n, Op::identity(), op, f);
 }
 
 template <ExecutionPolicy P, class T>

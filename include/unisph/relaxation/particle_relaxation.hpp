@@ -54,7 +54,9 @@
 //
 // Neighbours: direct search on every policy (the lists would be rebuilt every iteration);
 // particles in cell order make it read positions contiguously and in ascending j, so every
-// policy forms the same sums in the same order.
+// policy forms the same sums in the same order. With the global sums by deterministic_reduce
+// (relaxation_step.hpp) and the instantiating source compiled without contraction
+// (unisph_uncontracted_kernel_sources), a run has the same bits on seq, par and the GPU.
 
 #include <algorithm>
 #include <cmath>

@@ -6,6 +6,10 @@
 // residual, see particle_relaxation.hpp).
 //
 // ResidualNorms<D>: the largest |a_i| and the sum of |a_i| in one reduction.
+//
+// Both reductions (these norms and FIRE's PowerAndNorms) decide the next step (FIRE's time
+// step, restarts, the final descent's β), so they use deterministic_reduce: the same bits on
+// every policy, which keeps the trajectories of seq, par and the GPU equal bit for bit.
 
 #include <cmath>
 
@@ -108,7 +112,7 @@ class RelaxationStep : public UpdateDynamics<RelaxationStep<D>> {
 
 // FIRE's global quantities in one reduction: (Σ a_i·v_i, Σ |a_i|², Σ |v_i|²).
 template <int D>
-class PowerAndNorms : public ReduceDynamics<PowerAndNorms<D>, Sum<Vec<Real, 3>>> {
+class PowerAndNorms : public ReduceDynamics<PowerAndNorms<D>, Sum<Vec<Real, 3>>, ReduceOrder::fixed> {
  public:
   PowerAndNorms(DiscreteVariable<Vec<Real, D>>& residual, DiscreteVariable<Vec<Real, D>>& velocity)
       : residual_(residual), velocity_(velocity) {}
@@ -136,7 +140,7 @@ struct MaxAndSum {
 };
 
 template <int D>
-class ResidualNorms : public ReduceDynamics<ResidualNorms<D>, MaxAndSum> {
+class ResidualNorms : public ReduceDynamics<ResidualNorms<D>, MaxAndSum, ReduceOrder::fixed> {
  public:
   explicit ResidualNorms(DiscreteVariable<Vec<Real, D>>& residual) : residual_(residual) {}
   struct Kernel {

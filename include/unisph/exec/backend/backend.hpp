@@ -3,6 +3,7 @@
 // unisph/exec/algorithms.hpp only forwards to it. A backend provides, for n items:
 //   particle_for(n, f)                           f(i) for every i
 //   particle_reduce(n, identity, op, f) -> T     op-combination of f(i)
+//   deterministic_reduce(n, identity, op, f) -> T  the same in the association of reduction_tree.hpp
 //   exclusive_scan(in, out, n, with_total)
 //   sort_pairs(keys, values, n, begin_bit, end_bit)
 

@@ -35,6 +35,18 @@ struct Backend<ParallelDevicePolicy> {
     return identity;
   }
 
+  template <class T, class Op, class F>
+  static T deterministic_reduce(Index, T identity, const Op&, const F&) {
+#if UNISPH_HAS_CUDA
+    static_assert(dependent_false_v<F>,
+                  "deterministic_reduce(par_device, ...) launches a GPU kernel, so this source file must be compiled "
+                  "by nvcc: list it in unisph_kernel_sources() in CMake (or give it LANGUAGE CUDA).");
+#else
+    require_policy(PolicyKind::device);
+#endif
+    return identity;
+  }
+
   // Scan and sort are compiled into the library, so they work from any translation unit.
   template <class T>
   static void exclusive_scan(const T* in, T* out, Index n, bool with_total) {

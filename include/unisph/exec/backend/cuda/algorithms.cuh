@@ -9,6 +9,7 @@
 #include "unisph/exec/backend/backend.hpp"
 #include "unisph/exec/backend/cuda/primitives.hpp"
 #include "unisph/exec/backend/cuda/runtime.hpp"
+#include "unisph/exec/backend/reduction_tree.hpp"
 
 namespace unisph::backend {
 
@@ -56,6 +57,36 @@ __global__ void __launch_bounds__(block_size) reduce_partials(int count, T ident
   if (threadIdx.x == 0) *result = total;
 }
 
+// One level of deterministic_reduce: block b reduces items [b W, b W + W) (the identity past
+// count) by the halving tree of reduction_tree.hpp in shared memory, the same association as
+// the host's; coalesced loads, one item per thread.
+static_assert(reduction_tree_width == block_size, "a tree block is one CUDA block");
+template <class T, class Op, class F>
+__global__ void __launch_bounds__(block_size) tree_reduce_level(Index count, Index blocks, T identity, Op op, F f,
+                                                                T* out) {
+  __shared__ alignas(T) unsigned char storage[block_size * sizeof(T)];
+  T* v = reinterpret_cast<T*>(storage);
+  const Index t = threadIdx.x;
+  for (Index b = blockIdx.x; b < blocks; b += gridDim.x) {
+    const Index i = b * block_size + t;
+    v[t] = i < count ? f(i) : identity;
+    __syncthreads();
+    for (Index s = block_size / 2; s > 0; s /= 2) {
+      if (t < s) v[t] = op(v[t], v[t + s]);
+      __syncthreads();
+    }
+    if (t == 0) out[b] = v[0];
+    __syncthreads();  // v is refilled for the next block
+  }
+}
+
+// The items of a level above the first: the previous level's block results.
+template <class T>
+struct TreeLevelValues {
+  const T* values;
+  __device__ T operator()(Index i) const { return values[i]; }
+};
+
 }  // namespace cuda_detail
 
 template <>
@@ -88,6 +119,38 @@ struct Backend<ParallelDevicePolicy> {
     cuda_detail::reduce_partials<<<1, cuda_detail::block_size, 0, cuda_detail::stream()>>>(blocks, identity, op, partials, result);
     cuda::check_launch("particle_reduce (final pass)", static_cast<Index>(blocks));
     cuda::synchronize("particle_reduce");
+    return *result;
+  }
+
+  // The association of reduction_tree.hpp, one launch per level (10^6 items: 3 launches), the
+  // last writing into the mapped result buffer; the host's bits (seq, par) exactly.
+  template <class T, class Op, class F>
+  static T deterministic_reduce(Index n, T identity, const Op& op, const F& f) {
+    cuda::require_device();
+    if (n == 0) return identity;
+    static_assert(sizeof(T) <= cuda::pinned_result_bytes,
+                  "deterministic_reduce on the device returns values of at most 256 bytes.");
+    Index scratch_items = 0;
+    for (Index count = reduction_tree_blocks(n); count > 1; count = reduction_tree_blocks(count)) scratch_items += count;
+    T* partials = static_cast<T*>(cuda::scratch(sizeof(T) * (scratch_items > 0 ? scratch_items : 1), "deterministic_reduce"));
+    T* result = static_cast<T*>(cuda::pinned_result_buffer());
+    const auto grid = [](Index blocks) {
+      return static_cast<unsigned>(blocks < cuda_detail::max_blocks ? blocks : cuda_detail::max_blocks);
+    };
+    Index blocks = reduction_tree_blocks(n);
+    T* out = blocks > 1 ? partials : result;
+    cuda_detail::tree_reduce_level<<<grid(blocks), cuda_detail::block_size, 0, cuda_detail::stream()>>>(n, blocks, identity, op, f, out);
+    cuda::check_launch("deterministic_reduce", n);
+    while (blocks > 1) {
+      const Index count = blocks;
+      const T* in = out;
+      blocks = reduction_tree_blocks(count);
+      out = blocks > 1 ? out + count : result;
+      cuda_detail::tree_reduce_level<<<grid(blocks), cuda_detail::block_size, 0, cuda_detail::stream()>>>(
+          count, blocks, identity, op, cuda_detail::TreeLevelValues<T>{in}, out);
+      cuda::check_launch("deterministic_reduce (upper level)", count);
+    }
+    cuda::synchronize("deterministic_reduce");
     return *result;
   }
 

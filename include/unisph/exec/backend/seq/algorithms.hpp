@@ -3,6 +3,7 @@
 // backends are tested against and the easy one to debug.
 
 #include "unisph/exec/backend/host/radix_sort.hpp"
+#include "unisph/exec/backend/host/tree_reduce.hpp"
 #include "unisph/exec/backend/backend.hpp"
 
 namespace unisph::backend {
@@ -19,6 +20,14 @@ struct Backend<SequencedPolicy> {
     T acc = identity;
     for (Index i = 0; i < n; ++i) acc = op(acc, f(i));
     return acc;
+  }
+
+  // The fixed association of reduction_tree.hpp (the same bits as par and the GPU).
+  template <class T, class Op, class F>
+  static T deterministic_reduce(Index n, T identity, const Op& op, const F& f) {
+    return host::tree_reduce(n, identity, op, f, [](Index count, const auto& body) {
+      for (Index b = 0; b < count; ++b) body(b);
+    });
   }
 
   // out may alias in; out has n or n + 1 elements (the total in out[n]).

@@ -14,6 +14,7 @@
 
 #include "unisph/exec/backend/backend.hpp"
 #include "unisph/exec/backend/host/radix_sort.hpp"
+#include "unisph/exec/backend/host/tree_reduce.hpp"
 
 namespace unisph::backend {
 
@@ -55,6 +56,17 @@ struct Backend<ParallelPolicy> {
           return acc;
         },
         [&](const T& a, const T& b) { return op(a, b); });
+  }
+
+  // The fixed association of reduction_tree.hpp: each block is reduced by one task in the tree's
+  // order, so the result has seq's bits for any number of threads.
+  template <class T, class Op, class F>
+  static T deterministic_reduce(Index n, T identity, const Op& op, const F& f) {
+    return host::tree_reduce(n, identity, op, f, [](Index count, const auto& body) {
+      tbb::parallel_for(tbb::blocked_range<Index>(0, count, 8), [&](const tbb::blocked_range<Index>& r) {
+        for (Index b = r.begin(); b != r.end(); ++b) body(b);
+      });
+    });
   }
 
   template <class T>
