@@ -89,6 +89,29 @@ void write_disc(const fs::path& path, const Disc& disc, double dx, double file_d
                  io::PointArray::from("Inside", 1, std::vector<std::int64_t>{1})});
 }
 
+// A ball of radius R centred at c in 3D, written the same way.
+void write_ball(const fs::path& path, const Vec<double, 3>& c, double radius, double dx) {
+  std::vector<double> points, volume, phi, normal;
+  const long n = long(std::ceil(radius / dx)) + 1;
+  for (long k = -n; k < n; ++k)
+    for (long j = -n; j < n; ++j)
+      for (long i = -n; i < n; ++i) {
+        const Vec<double, 3> x{{c[0] + (double(i) + 0.5) * dx, c[1] + (double(j) + 0.5) * dx, c[2] + (double(k) + 0.5) * dx}};
+        const double r = norm(x - c);
+        if (r >= radius) continue;
+        points.insert(points.end(), {x[0], x[1], x[2]});
+        volume.push_back(dx * dx * dx);
+        phi.push_back(r - radius);
+        normal.insert(normal.end(), {(x[0] - c[0]) / r, (x[1] - c[1]) / r, (x[2] - c[2]) / r});
+      }
+  io::write_vtp(path, points,
+                {io::PointArray::from("Volume", 1, volume), io::PointArray::from("NormalDistance", 1, phi),
+                 io::PointArray::from("Normal", 3, normal)},
+                {io::PointArray::from("Spacing", 1, std::vector<double>{dx}),
+                 io::PointArray::from("Dimension", 1, std::vector<std::int64_t>{3}),
+                 io::PointArray::from("Inside", 1, std::vector<std::int64_t>{1})});
+}
+
 CaseDescription small_dam_break() {
   CaseDescription c;
   c.name = "obstacle_dam_break";
@@ -372,6 +395,41 @@ TYPED_TEST(SphObstacle, CheckpointWithObstacleContinuesBitForBit) {
     EXPECT_NE(std::string(e.what()).find("number of obstacles (0 here, 1 in the checkpoint)"), std::string::npos)
         << e.what();
   }
+}
+
+// 3D, float: a ball in the column of a narrow 3D dam break (dx = 0.1, 1,000 lattice points).
+TYPED_TEST(SphObstacle, BallInA3DDamBreakInFloat) {
+  const PolicyKind kind = kind_of_policy(TypeParam::space, std::is_same_v<TypeParam, SequencedPolicy>);
+  CaseDescription c = small_dam_break();
+  c.dimension = 3;
+  c.dx = 0.1;
+  c.tank = {5.366, 2.0, 0.5};
+  c.column = {2.0, 1.0, 0.5};
+  const Vec<double, 3> centre{{1.5, 0.45, 0.25}};
+  const double radius = 0.2;
+  const fs::path file = scratch("ball.vtp");
+  write_ball(file, centre, radius, c.dx);
+  WeaklyCompressibleSolver<float, 3> without(c, kind);
+  c.obstacles.push_back({file.string(), {0.0, 0.0, 0.0}, 20});
+  WeaklyCompressibleSolver<float, 3> solver(c, kind);
+  ASSERT_EQ(solver.obstacle_wall_counts().size(), 1u);
+  EXPECT_EQ(solver.wall_count(), without.wall_count() + solver.obstacle_wall_counts()[0]);
+  EXPECT_EQ(solver.fluid_count() + solver.removed_fluid_count(), without.fluid_count());
+  EXPECT_GT(solver.removed_fluid_count(), 0u);
+  const auto wall0 = solver.wall_body().positions().to_vector();
+  const double mass0 = solver.observe().mass;
+  while (solver.acoustic_steps() < 150) solver.advance(1e9);
+  EXPECT_EQ(solver.observe().mass, mass0);
+  EXPECT_EQ(solver.wall_body().positions().to_vector(), wall0) << "wall and obstacle particles never move";
+  double deepest = std::numeric_limits<double>::infinity();
+  for (const Vec<float, 3>& x : solver.fluid_body().positions().to_vector())
+    deepest = std::min(deepest, norm(Vec<double, 3>{{double(x[0]), double(x[1]), double(x[2])}} - centre) - radius);
+  std::printf("[ measured ] %s, 3D float: after %llu acoustic steps the fluid particle nearest the ball's centre is "
+              "%.3f dx from its surface (bound: none deeper inside than 0.25 dx); %u lattice points removed, %u ball "
+              "wall particles\n",
+              std::string(TypeParam::test_label).c_str(), (unsigned long long)solver.acoustic_steps(), deepest / c.dx,
+              unsigned(solver.removed_fluid_count()), unsigned(solver.obstacle_wall_counts()[0]));
+  EXPECT_GT(deepest, -0.25 * c.dx);
 }
 
 TEST(HostSphObstacle, OlderCheckpointVersionsAreRefused) {

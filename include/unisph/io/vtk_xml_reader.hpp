@@ -44,7 +44,14 @@ struct PolyDataFile {
   std::vector<VtkArray> point_arrays;
   std::vector<VtkArray> field_arrays;
 
-  [[noreturn]] void fail(const std::string& what) const { throw VtkReadError(path + ": " + what); }
+  // One line whatever the file holds: control characters (a newline in an attribute) become
+  // blanks, and quoted attribute values are cut to 80 characters (vtk_reader_detail::shown).
+  [[noreturn]] void fail(const std::string& what) const {
+    std::string line = path + ": " + what;
+    for (char& c : line)
+      if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = ' ';
+    throw VtkReadError(line);
+  }
 
   // The point array `name` with `components` components, or a one-line error.
   const VtkArray& point_array(const std::string& name, int components) const {
@@ -73,6 +80,11 @@ struct PolyDataFile {
 
 namespace vtk_reader_detail {
 
+// An attribute value as quoted in a message: at most 80 characters.
+inline std::string shown(const std::string& value) {
+  return value.size() <= 80 ? value : value.substr(0, 80) + "...";
+}
+
 // One XML tag of the header: its name ("DataArray", "/PointData", ...) and attributes.
 struct Tag {
   std::string name;
@@ -97,9 +109,9 @@ inline std::vector<Tag> tags(const std::string& header, const PolyDataFile& file
       if (k >= body.size()) break;
       const std::size_t eq = body.find('=', k);
       if (eq == std::string::npos || eq + 1 >= body.size() || body[eq + 1] != '"')
-        file.fail("its XML tag <" + tag.name + "> has a malformed attribute");
+        file.fail("its XML tag <" + shown(tag.name) + "> has a malformed attribute");
       const std::size_t close = body.find('"', eq + 2);
-      if (close == std::string::npos) file.fail("its XML tag <" + tag.name + "> has an unterminated attribute");
+      if (close == std::string::npos) file.fail("its XML tag <" + shown(tag.name) + "> has an unterminated attribute");
       tag.attributes[body.substr(k, eq - k)] = body.substr(eq + 2, close - eq - 2);
       k = close + 1;
     }
@@ -110,10 +122,10 @@ inline std::vector<Tag> tags(const std::string& header, const PolyDataFile& file
 
 inline std::uint64_t unsigned_attribute(const Tag& tag, const std::string& key, const PolyDataFile& file) {
   const auto it = tag.attributes.find(key);
-  if (it == tag.attributes.end()) file.fail("<" + tag.name + "> has no " + key + " attribute");
+  if (it == tag.attributes.end()) file.fail("<" + shown(tag.name) + "> has no " + key + " attribute");
   const std::string& text = it->second;
   if (text.empty() || text.size() > 19 || text.find_first_not_of("0123456789") != std::string::npos)
-    file.fail("<" + tag.name + "> " + key + " = \"" + text + "\" is not a non-negative integer");
+    file.fail("<" + shown(tag.name) + "> " + key + " = \"" + shown(text) + "\" is not a non-negative integer");
   return std::stoull(text);
 }
 
@@ -132,13 +144,11 @@ double load(const unsigned char* at) {
 
 }  // namespace vtk_reader_detail
 
-inline PolyDataFile read_vtp(const std::filesystem::path& path) {
+// Parses the bytes of a .vtp file; `name` names it in messages (fuzz/vtp_fuzzer.cpp calls this).
+inline PolyDataFile parse_vtp(const std::string& content, const std::string& name) {
   namespace d = vtk_reader_detail;
   PolyDataFile file;
-  file.path = path.string();
-  std::ifstream in(path, std::ios::binary);
-  if (!in) file.fail("cannot open the file");
-  const std::string content((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  file.path = name;
   if (content.rfind("<?xml", 0) != 0 && content.rfind("<VTKFile", 0) != 0)
     file.fail("is not a VTK XML file (it does not start with \"<?xml\" or \"<VTKFile\")");
   const std::size_t appended = content.find("<AppendedData");
@@ -154,11 +164,11 @@ inline PolyDataFile read_vtp(const std::filesystem::path& path) {
     return it == t.attributes.end() ? std::string() : it->second;
   };
   if (attribute(*vtk_file, "type") != "PolyData")
-    file.fail("is a VTK '" + attribute(*vtk_file, "type") + "' file, not PolyData (.vtp)");
+    file.fail("is a VTK '" + d::shown(attribute(*vtk_file, "type")) + "' file, not PolyData (.vtp)");
   if (attribute(*vtk_file, "byte_order") != "LittleEndian")
-    file.fail("has byte_order \"" + attribute(*vtk_file, "byte_order") + "\"; this reader reads LittleEndian");
+    file.fail("has byte_order \"" + d::shown(attribute(*vtk_file, "byte_order")) + "\"; this reader reads LittleEndian");
   if (attribute(*vtk_file, "header_type") != "UInt64")
-    file.fail("has header_type \"" + attribute(*vtk_file, "header_type") + "\"; this reader reads the UInt64 block "
+    file.fail("has header_type \"" + d::shown(attribute(*vtk_file, "header_type")) + "\"; this reader reads the UInt64 block "
               "headers unisph writes");
   if (attribute(*vtk_file, "compressor") != "") file.fail("is compressed; this reader reads uncompressed data");
 
@@ -185,17 +195,17 @@ inline PolyDataFile read_vtp(const std::filesystem::path& path) {
       Pending p;
       p.array.name = attribute(t, "Name");
       p.array.vtk_type = attribute(t, "type");
-      const std::string what = "array '" + p.array.name + "' (in <" + section + ">)";
+      const std::string what = "array '" + d::shown(p.array.name) + "' (in <" + section + ">)";
       if (d::type_size(p.array.vtk_type) == 0)
-        file.fail(what + " has type \"" + p.array.vtk_type + "\"; this reader reads Float32, Float64, UInt64 and Int64");
+        file.fail(what + " has type \"" + d::shown(p.array.vtk_type) + "\"; this reader reads Float32, Float64, UInt64 and Int64");
       if (attribute(t, "format") != "appended")
-        file.fail(what + " has format \"" + attribute(t, "format") + "\"; this reader reads the raw appended data "
+        file.fail(what + " has format \"" + d::shown(attribute(t, "format")) + "\"; this reader reads the raw appended data "
                   "unisph writes");
       p.offset = d::unsigned_attribute(t, "offset", file);
       const std::string components = attribute(t, "NumberOfComponents");
       p.array.components = components.empty() ? 1 : int(d::unsigned_attribute(t, "NumberOfComponents", file));
       if (p.array.components < 1 || p.array.components > 9)
-        file.fail(what + " has " + components + " components (1 to 9 expected)");
+        file.fail(what + " has " + d::shown(components) + " components (1 to 9 expected)");
       if (section == "PointData") p.where = Pending::Where::point;
       else if (section == "Points") p.where = Pending::Where::points;
       else if (section == "FieldData") {
@@ -222,7 +232,7 @@ inline PolyDataFile read_vtp(const std::filesystem::path& path) {
   for (Pending& p : pending) {
     if (p.where == Pending::Where::point || p.where == Pending::Where::points) p.tuples = file.points;
     const std::string what = p.where == Pending::Where::points ? std::string("the points")
-                                                                : "array '" + p.array.name + "'";
+                                                                : "array '" + d::shown(p.array.name) + "'";
     const std::uint64_t size = d::type_size(p.array.vtk_type);
     if (p.where == Pending::Where::points && p.array.components != 3)
       file.fail("the points have " + std::to_string(p.array.components) + " components, not 3");
@@ -265,12 +275,20 @@ inline PolyDataFile read_vtp(const std::filesystem::path& path) {
     } else {
       std::vector<VtkArray>& list = p.where == Pending::Where::point ? file.point_arrays : file.field_arrays;
       for (const VtkArray& a : list)
-        if (a.name == p.array.name) file.fail("has two arrays named '" + a.name + "'");
+        if (a.name == p.array.name) file.fail("has two arrays named '" + d::shown(a.name) + "'");
       list.push_back(std::move(p.array));
     }
   }
   if (!have_points) file.fail("has no <Points> array");
   return file;
+}
+
+inline PolyDataFile read_vtp(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw VtkReadError(path.string() + ": cannot open the file");
+  const std::string content((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw VtkReadError(path.string() + ": reading the file failed");
+  return parse_vtp(content, path.string());
 }
 
 }  // namespace unisph::io
