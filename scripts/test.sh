@@ -57,4 +57,7 @@ UNISPH_FUZZ_TARGET=polygon scripts/fuzz_stl.sh "${UNISPH_FUZZ_SECONDS:-60}"
 stage "fuzz the case-file reader for ${UNISPH_FUZZ_SECONDS:-60} s"
 scripts/fuzz_case.sh "${UNISPH_FUZZ_SECONDS:-60}"
 
+stage "fuzz the .vtp particle-file reader for ${UNISPH_FUZZ_SECONDS:-60} s"
+scripts/fuzz_vtp.sh "${UNISPH_FUZZ_SECONDS:-60}"
+
 stage "done"

@@ -3,7 +3,11 @@
 // lattice of spacing DX inside the body (or, with --outside, around it within BOX), relaxed
 // against the body's level set (docs/particle_generation.md). Writes
 //   FILE.vtp            the particles (position, Volume, NormalDistance = phi at the particle,
-//                       ZeroOrderError = |Σ ∇W V + G| h, KernelSum, ParticleId) for ParaView
+//                       Normal = the level set's unit normal there (pointing out of the body),
+//                       ZeroOrderError = |Σ ∇W V + G| h, KernelSum, ParticleId) for ParaView, and
+//                       as field data Spacing (dx), Dimension and Inside (1: the body's inside,
+//                       0: --outside), which `unisph run` checks when a case loads the file as
+//                       an obstacle (sph/obstacle_particles.hpp)
 //   FILE_residual.csv   iteration, mean and largest zero-order error, step
 //   FILE_residual.png   the plot of the CSV (scripts/plot_relaxation.py, when the script and
 //                       /usr/bin/python3 with matplotlib are found)
@@ -74,23 +78,37 @@ std::string sibling(const std::string& output, const std::string& suffix) {
   return (p.parent_path() / (p.stem().string() + suffix)).string();
 }
 
+// The level set's unit normal at each particle (zero where no layer resolves it).
 template <int D>
-void write_particles(const std::string& path, ParticleRelaxation<D>& relaxation) {
+struct ProbeNormal {
+  View<const Vec<Real, D>> position;
+  View<Vec<Real, D>> normal;
+  MultiResolutionLevelSetView<D> level_set;
+  UNISPH_HOST_DEVICE void operator()(Index i) const { normal[i] = level_set.probe_normal(position[i]); }
+};
+
+template <int D>
+void write_particles(const std::string& path, ParticleRelaxation<D>& relaxation, const std::vector<Vec<Real, D>>& normal,
+                     double dx, bool inside) {
   const std::vector<Vec<Real, D>> x = relaxation.positions().to_vector(), a = relaxation.residuals().to_vector();
   const std::vector<Real> volume = relaxation.volumes().to_vector(), phi = relaxation.normal_distances().to_vector(),
                           sum = relaxation.kernel_sums().to_vector();
   const std::vector<std::uint64_t> ids = relaxation.body().particles().ids().to_vector();
   std::vector<double> points, volume_out(volume.begin(), volume.end()), phi_out(phi.begin(), phi.end()),
-      sum_out(sum.begin(), sum.end()), error(x.size());
+      sum_out(sum.begin(), sum.end()), error(x.size()), normal_out;
   const double half_h = double(relaxation.kernel().h) / 2;  // |a| = 2 |g|, the error is |g| h
   for (std::size_t i = 0; i < x.size(); ++i) {
     for (int k = 0; k < 3; ++k) points.push_back(k < D ? double(x[i][k]) : 0.0);
     error[i] = double(norm(a[i])) * half_h;
+    for (int k = 0; k < 3; ++k) normal_out.push_back(k < D ? double(normal[i][k]) : 0.0);
   }
   io::write_vtp(path, points,
                 {io::PointArray::from("Volume", 1, volume_out), io::PointArray::from("NormalDistance", 1, phi_out),
                  io::PointArray::from("ZeroOrderError", 1, error), io::PointArray::from("KernelSum", 1, sum_out),
-                 io::PointArray::from("ParticleId", 1, ids)});
+                 io::PointArray::from("Normal", 3, normal_out), io::PointArray::from("ParticleId", 1, ids)},
+                {io::PointArray::from("Spacing", 1, std::vector<double>{dx}),
+                 io::PointArray::from("Dimension", 1, std::vector<std::int64_t>{D}),
+                 io::PointArray::from("Inside", 1, std::vector<std::int64_t>{inside ? 1 : 0})});
 }
 
 void write_history(const std::string& path, const std::vector<RelaxationRecord>& history) {
@@ -164,7 +182,10 @@ void generate(Search& search, const Box<Real, D>& shape_box, double enclosed, co
                 double(history.front().mean_error / history.back().mean_error),
                 double(history.front().max_error / history.back().max_error));
     relaxation.surface_distances(policy);
-    write_particles<D>(options.output, relaxation);
+    DiscreteVariable<Vec<Real, D>> normal("Normal", relaxation.size());
+    particle_for(policy, relaxation.size(),
+                 ProbeNormal<D>{relaxation.positions().read(policy), normal.write(policy), level_set->view(policy)});
+    write_particles<D>(options.output, relaxation, normal.to_vector(), options.dx, !outside);
     std::printf("  wrote  %s\n", options.output.c_str());
     const std::string csv = sibling(options.output, "_residual.csv");
     write_history(csv, history);

@@ -188,6 +188,20 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
     auto& wall = solver.wall_body().particles();
     std::vector<io::PointArray> wall_arrays;
     wall_arrays.push_back(vector_array<T, D>("Normal", wall.template variable<Vec<T, D>>("Normal").to_vector()));
+    if (!description.obstacles.empty()) {
+      // Which body a wall particle belongs to: 0 the tank, k the k-th [[obstacle]] (ids are
+      // the tank's first, then each obstacle's in turn; the wall was reordered once).
+      const std::vector<Index>& counts = solver.obstacle_wall_counts();
+      const Index tank = solver.wall_count() - [&] { Index n = 0; for (Index c : counts) n += c; return n; }();
+      std::vector<std::int64_t> body;
+      for (std::uint64_t id : wall.ids().to_vector()) {
+        std::uint64_t at = id - wall.first_id(), end = tank;
+        std::int64_t k = 0;
+        while (at >= end && std::size_t(k) < counts.size()) end += counts[std::size_t(k++)];
+        body.push_back(k);
+      }
+      wall_arrays.push_back(io::PointArray::from("Body", 1, body));
+    }
     const std::string wall_file = solver.wall_body().name() + suffix;
     io::write_vtp(dir / wall_file, as_points<T, D>(solver.wall_body().positions().to_vector()), wall_arrays);
     run.collection.push_back({solver.time(), 0, fluid_file});
@@ -239,7 +253,13 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
       << "dimension: " << D << "\nprecision: " << (sizeof(T) == 8 ? "double" : "float") << "\n"
       << "policy: " << to_string(kind) << (kind == PolicyKind::device ? " (" + execution_info().device_name + ")" : "")
       << "\ndx: " << description.dx << "\nsmoothing length h: " << solver.smoothing_length()
-      << "\nfluid particles: " << solver.fluid_count() << "\nwall particles: " << solver.wall_count()
+      << "\nfluid particles: " << solver.fluid_count() << "\nwall particles: " << solver.wall_count();
+  for (std::size_t k = 0; k < description.obstacles.size(); ++k)
+    log << "\nobstacle " << k + 1 << ": " << solver.obstacle_wall_counts()[k] << " wall particles from "
+        << description.obstacles[k].file;
+  if (!description.obstacles.empty())
+    log << "\nfluid particles removed by the obstacles: " << solver.removed_fluid_count();
+  log
       << "\nsimulated time: " << solver.time() << " of " << end_time
       << "\nadvection steps: " << solver.advection_steps() << "\nacoustic steps: " << solver.acoustic_steps()
       << "\nsnapshots: " << run.snapshot << "\ncheckpoints written: " << checkpoints

@@ -131,10 +131,16 @@ fs::path checkpoint_for(const Config& c, const sph::CaseDescription& d) {
                 settings.checkpoint_time);
   const fs::path file = settings.cache / name;
   if (fs::exists(file)) {
-    // A cached checkpoint of an older version of the case file is made again.
-    const std::string difference = sph::physics_difference(d, sph::read_checkpoint_summary(file).description);
+    // A cached checkpoint of an older version of the case file, or of an older checkpoint
+    // format (refused by the reader), is made again.
+    std::string difference;
+    try {
+      difference = sph::physics_difference(d, sph::read_checkpoint_summary(file).description);
+    } catch (const io::CheckpointError& e) {
+      difference = e.what();
+    }
     if (difference.empty()) return file;
-    std::fprintf(stderr, "sph_bench: %s is for another case (%s); making it again\n", file.string().c_str(),
+    std::fprintf(stderr, "sph_bench: %s is for another case or format (%s); making it again\n", file.string().c_str(),
                  difference.c_str());
   }
   fs::create_directories(settings.cache);

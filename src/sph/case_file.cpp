@@ -6,6 +6,7 @@
 #include <cctype>
 #include <cstdint>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <map>
@@ -269,7 +270,7 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
     throw CaseFileError(source + ":" + std::to_string(e.source().begin.line) + ": not valid TOML: " + what);
   }
   Reader r{source};
-  r.only_keys(root, "", {"case", "geometry", "fluid", "physics", "initial", "time", "report", "probe"});
+  r.only_keys(root, "", {"case", "geometry", "fluid", "physics", "initial", "time", "report", "probe", "obstacle"});
   CaseDescription c;
   c.source = source;
 
@@ -364,6 +365,26 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
           r.fail(p.get("name"), "probe.name", "use letters, digits, '_', '.' or '-' (it names a CSV column)");
       probe.position = r.vector(p, "probe.", "position", c.dimension, false);
       c.probes.push_back(probe);
+    }
+  }
+
+  // [[obstacle]]: a particle file of `unisph generate`, named relative to the case file. The
+  // file itself is read and checked when the solver is made (obstacle_particles.hpp), with the
+  // dx of the run (--dx may override geometry.dx).
+  if (const toml::node* obstacles = root.get("obstacle")) {
+    const toml::array* list = obstacles->as_array();
+    if (!list || !list->is_array_of_tables()) r.fail(obstacles, "obstacle", "must be an array of tables [[obstacle]]");
+    for (const toml::node& node : *list) {
+      const toml::table& o = *node.as_table();
+      r.only_keys(o, "obstacle.", {"file", "translation"});
+      ObstacleDescription obstacle;
+      const std::string file = r.text(o, "obstacle.", "file", nullptr);
+      if (file.empty()) r.fail(o.get("file"), "obstacle.file", "must name a particle file (.vtp of `unisph generate`)");
+      obstacle.file = (std::filesystem::path(source).parent_path() / file).lexically_normal().string();
+      obstacle.line = int(o.get("file")->source().begin.line);
+      obstacle.translation = o.get("translation") ? r.vector(o, "obstacle.", "translation", c.dimension, false)
+                                                  : std::vector<double>(std::size_t(c.dimension), 0.0);
+      c.obstacles.push_back(obstacle);
     }
   }
   return c;

@@ -35,6 +35,12 @@ void write_case(io::CheckpointWriter& out, const CaseDescription& c) {
     out.string(p.name);
     out.f64s(p.position);
   }
+  out.u64(c.obstacles.size());
+  for (const ObstacleDescription& o : c.obstacles) {
+    out.string(o.file);
+    out.f64s(o.translation);
+    out.u32(std::uint32_t(o.line));
+  }
 }
 
 CaseDescription read_case(io::CheckpointReader& in) {
@@ -69,6 +75,16 @@ CaseDescription read_case(io::CheckpointReader& in) {
     p.name = in.string();
     p.position = in.f64s();
     c.probes.push_back(p);
+  }
+  const std::uint64_t obstacles = in.u64();
+  if (obstacles > 100000) in.fail("holds " + std::to_string(obstacles) + " obstacles (damaged case section)");
+  for (std::uint64_t k = 0; k < obstacles; ++k) {
+    ObstacleDescription o;
+    o.file = in.string();
+    o.translation = in.f64s();
+    o.line = int(in.u32());
+    if (int(o.translation.size()) != c.dimension) in.fail("holds an obstacle whose translation is not one value per axis");
+    c.obstacles.push_back(o);
   }
   if (c.dimension != 2 && c.dimension != 3) in.fail("holds a case of dimension " + std::to_string(c.dimension));
   if (int(c.tank.size()) != c.dimension || int(c.column.size()) != c.dimension || !(c.dx > 0) || c.sort_every < 1)
@@ -115,6 +131,11 @@ std::string physics_difference(const CaseDescription& a, const CaseDescription& 
   field("number of probes", int(a.probes.size()), int(b.probes.size()));
   for (std::size_t k = 0; k < a.probes.size() && k < b.probes.size(); ++k)
     field("probe.position", a.probes[k].position, b.probes[k].position);
+  field("number of obstacles", int(a.obstacles.size()), int(b.obstacles.size()));
+  for (std::size_t k = 0; k < a.obstacles.size() && k < b.obstacles.size(); ++k) {
+    field("obstacle.file", a.obstacles[k].file, b.obstacles[k].file);
+    field("obstacle.translation", a.obstacles[k].translation, b.obstacles[k].translation);
+  }
   return found;
 }
 

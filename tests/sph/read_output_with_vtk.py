@@ -2,8 +2,12 @@
 """Runs `unisph run` on a short dam break and reads its output back with VTK's own reader
 (Debian's python3-vtk9): the .pvd lists every snapshot, each .vtp has the point count of
 run.log, the expected arrays, ids 0..n-1 once each, densities near rho0 and finite values.
+With --obstacle x0,y0,x1,y1 (a case with one rectangular [[obstacle]] there): the wall also has
+the array Body (0 the tank, 1 the obstacle) with run.log's count of obstacle particles, all of
+them inside the rectangle and unmoved between snapshots, and no fluid particle of any snapshot
+lies deeper inside the rectangle than a quarter of dx.
 
-    read_output_with_vtk.py UNISPH_EXECUTABLE CASE_FILE WORK_DIR
+    read_output_with_vtk.py UNISPH_EXECUTABLE CASE_FILE WORK_DIR [--obstacle x0,y0,x1,y1] [--end-time T]
 """
 import math
 import os
@@ -16,11 +20,22 @@ import vtk
 from vtk.util.numpy_support import vtk_to_numpy
 
 
+def depth_inside(box, x, y):
+    """How deep (x, y) lies inside the rectangle box = (x0, y0, x1, y1); <= 0 outside."""
+    return min(x - box[0], box[2] - x, y - box[1], box[3] - y)
+
+
 def main():
     exe, case, work = sys.argv[1:4]
+    options = dict(zip(sys.argv[4::2], sys.argv[5::2]))
+    box = [float(v) for v in options["--obstacle"].split(",")] if "--obstacle" in options else None
     shutil.rmtree(work, ignore_errors=True)
-    subprocess.run([exe, "run", case, "--policy", "seq", "--end-time", "0.5", "--output", work, "--quiet"], check=True)
+    subprocess.run([exe, "run", case, "--policy", "seq", "--end-time", options.get("--end-time", "0.5"), "--output", work,
+                    "--quiet"], check=True)
     log = dict(line.split(": ", 1) for line in open(os.path.join(work, "run.log")).read().splitlines() if ": " in line)
+    dx = float(log["dx"])
+    deepest = -math.inf
+    first_obstacle = None
     counts = {0: int(log["fluid particles"]), 1: int(log["wall particles"])}
     pvd = [f for f in os.listdir(work) if f.endswith(".pvd")]
     assert len(pvd) == 1, pvd
@@ -47,10 +62,25 @@ def main():
             assert v.shape == (counts[0], 3) and abs(v[:, 2]).max() == 0.0
             t = float(e.get("timestep"))
             assert (t == 0.0) == (abs(v).max() == 0.0), "velocity zero exactly at t = 0"
+            if box:
+                deepest = max(deepest, max(depth_inside(box, x, y) for x, y, _ in points))
         else:
-            assert names == ["Normal"], names
+            assert names == (["Body", "Normal"] if box else ["Normal"]), names
             n = vtk_to_numpy(pd.GetArray("Normal"))
             assert all(abs(math.sqrt(a * a + b * b + c * c) - 1) < 1e-6 for a, b, c in n)
+            if box:
+                body = vtk_to_numpy(pd.GetArray("Body"))
+                obstacle = points[body == 1]
+                expected = int(log["obstacle 1"].split()[0])
+                assert len(obstacle) == expected and set(body.tolist()) == {0, 1}, (len(obstacle), expected)
+                assert all(depth_inside(box, x, y) > 0 for x, y, _ in obstacle), "an obstacle particle outside its block"
+                if first_obstacle is None:
+                    first_obstacle = sorted(map(tuple, obstacle.tolist()))
+                assert sorted(map(tuple, obstacle.tolist())) == first_obstacle, "the obstacle moved"
+    if box:
+        assert deepest < 0.25 * dx, "a fluid particle %.3f dx inside the obstacle" % (deepest / dx)
+        print("obstacle: %d wall particles, unmoved in every snapshot; the deepest fluid particle is %.3f dx inside "
+              "the block (bound 0.25 dx; < 0: none inside)" % (len(first_obstacle), deepest / dx))
     print("read %d snapshots of %d fluid and %d wall particles back with VTK %s" %
           (len(entries) // 2, counts[0], counts[1], vtk.vtkVersion.GetVTKVersion()))
 

@@ -55,8 +55,11 @@ inline void write_file_atomically(const std::filesystem::path& path, const std::
 }
 
 // points: three coordinates per point (2D cases pass z = 0), in the type S of `points`.
+// field_arrays: values of the whole data set (VTK's FieldData, e.g. the spacing of a generated
+// particle set), each a `components`-tuple array.
 template <class S>
-void write_vtp(const std::filesystem::path& path, const std::vector<S>& points, const std::vector<PointArray>& arrays) {
+void write_vtp(const std::filesystem::path& path, const std::vector<S>& points, const std::vector<PointArray>& arrays,
+               const std::vector<PointArray>& field_arrays = {}) {
   const std::uint64_t n = points.size() / 3;
   std::vector<std::int64_t> connectivity(n), offsets(n);
   for (std::uint64_t i = 0; i < n; ++i) {
@@ -73,7 +76,18 @@ void write_vtp(const std::filesystem::path& path, const std::vector<S>& points, 
     return at;
   };
   xml << "<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" "
-         "header_type=\"UInt64\">\n<PolyData>\n<Piece NumberOfPoints=\""
+         "header_type=\"UInt64\">\n<PolyData>\n";
+  if (!field_arrays.empty()) {
+    xml << "<FieldData>\n";
+    for (const PointArray& a : field_arrays) {
+      const std::size_t element = a.vtk_type == "Float32" ? 4 : 8;
+      xml << "<DataArray type=\"" << a.vtk_type << "\" Name=\"" << a.name << "\" NumberOfComponents=\"" << a.components
+          << "\" NumberOfTuples=\"" << a.bytes.size() / (element * std::size_t(a.components))
+          << "\" format=\"appended\" offset=\"" << block(a.bytes.data(), a.bytes.size()) << "\"/>\n";
+    }
+    xml << "</FieldData>\n";
+  }
+  xml << "<Piece NumberOfPoints=\""
       << n << "\" NumberOfVerts=\"" << n << "\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">\n<PointData>\n";
   for (const PointArray& a : arrays)
     xml << "<DataArray type=\"" << a.vtk_type << "\" Name=\"" << a.name << "\" NumberOfComponents=\"" << a.components

@@ -14,6 +14,14 @@ struct ProbeDescription {
   std::vector<double> position;
 };
 
+// A static body from a particle file of `unisph generate` (sph/obstacle_particles.hpp):
+// [[obstacle]] file = "cylinder.vtp" (relative to the case file), translation = [x, y(, z)].
+struct ObstacleDescription {
+  std::string file;                 // as resolved: the case file's folder / the file named
+  std::vector<double> translation;  // D values (zeros by default)
+  int line = 0;                     // of its `file` key in the case file, for messages
+};
+
 struct CaseDescription {
   std::string name;
   std::string source;  // the file it was read from (for messages)
@@ -50,6 +58,8 @@ struct CaseDescription {
   double pressure_scale = 1;
   // [[probe]]
   std::vector<ProbeDescription> probes;
+  // [[obstacle]]
+  std::vector<ObstacleDescription> obstacles;
 };
 
 }  // namespace unisph::sph

@@ -1,13 +1,13 @@
 #pragma once
 // The layout of a solver checkpoint inside the checkpoint container (io/checkpoint_file.hpp),
-// format version 1:
+// format version 3:
 //
 //   "run"        dimension (u32), bytes of the floating type (u32), "float" or "double"
-//   "case"       every field of the CaseDescription
+//   "case"       every field of the CaseDescription (obstacles: resolved file, translation, line)
 //   "time"       time (f64), advection steps (u64), acoustic steps (u64), phase (u32): 0, the
 //                only phase a checkpoint is taken in, is "after an advection step, particles
 //                sorted when due, neighbour structures to be rebuilt from the positions"
-//   "body" x 2   fluid, then wall: name, owned particles (u64), first id (u64), then each
+//   "body" x 2   fluid, then wall (the tank's particles, then each obstacle's): name, owned particles (u64), first id (u64), then each
 //                sortable variable (ids included): name, type, element size (u64), bytes
 //   "observers"  the caller's run state (e.g. `unisph run`'s output counters): one block
 //
@@ -22,7 +22,8 @@
 
 namespace unisph::sph {
 
-inline constexpr std::uint32_t solver_checkpoint_version = 2;  // 2: time.cells_per_cutoff
+// 2: time.cells_per_cutoff; 3: obstacles (older versions are refused with one line).
+inline constexpr std::uint32_t solver_checkpoint_version = 3;
 
 void write_case(io::CheckpointWriter& out, const CaseDescription& c);
 CaseDescription read_case(io::CheckpointReader& in);

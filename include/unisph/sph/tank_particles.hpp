@@ -20,6 +20,10 @@ struct TankParticles {
   std::vector<Vec<T, D>> fluid;
   std::vector<Vec<T, D>> wall;
   std::vector<Vec<T, D>> wall_normal;
+  // With obstacles (obstacle_particles.hpp): the wall particles each added after the tank's,
+  // and the fluid lattice points removed because they overlapped one.
+  std::vector<std::size_t> obstacle_wall_counts;
+  std::size_t removed_fluid = 0;
 };
 
 namespace tank_detail {

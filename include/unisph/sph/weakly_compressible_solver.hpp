@@ -65,7 +65,12 @@ class WeaklyCompressibleSolver {
   std::uint64_t advection_steps() const;
   std::uint64_t acoustic_steps() const;
   Index fluid_count() const;
-  Index wall_count() const;
+  Index wall_count() const;  // the tank's wall and the obstacles'
+  // Wall particles of each obstacle of the case; the wall body's particle ids are the tank's
+  // first, then each obstacle's in turn.
+  const std::vector<Index>& obstacle_wall_counts() const;
+  // Fluid lattice points not made because they lay inside an obstacle or within dx/2 of it.
+  Index removed_fluid_count() const;
   double smoothing_length() const;
   PolicyKind policy() const;
   const CaseDescription& description() const;

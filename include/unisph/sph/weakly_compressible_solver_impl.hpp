@@ -16,6 +16,7 @@
 #include "unisph/sph/density_summation.hpp"
 #include "unisph/sph/fused_updates.hpp"
 #include "unisph/sph/observers.hpp"
+#include "unisph/sph/obstacle_particles.hpp"
 #include "unisph/sph/pressure_relaxation.hpp"
 #include "unisph/sph/solver_checkpoint.hpp"
 #include "unisph/sph/prior_acceleration.hpp"
@@ -67,12 +68,19 @@ struct WeaklyCompressibleSolver<T, D>::State {
       throw Error("case '" + c.name + "': tank and column need " + std::to_string(D) + " sizes");
     return c;
   }
+  static TankParticles<T, D> particles_of(const CaseDescription& c) {
+    TankParticles<T, D> p = make_tank_particles<T, D>(c.tank, c.column, c.dx);
+    add_obstacles(p, c);
+    return p;
+  }
 
   State(const CaseDescription& c, PolicyKind kind)
       : description(checked(c)),
         policy(kind),
         kernel(WendlandC2Kernel<T, D>::from_spacing(T(c.dx))),
-        particles(make_tank_particles<T, D>(c.tank, c.column, c.dx)),
+        particles(particles_of(c)),
+        obstacle_counts(particles.obstacle_wall_counts.begin(), particles.obstacle_wall_counts.end()),
+        removed_fluid(particles.removed_fluid),
         domain(domain_of(c)),
         fluid_body("Water", domain, particles.fluid.size()),
         wall_body("Wall", domain, particles.wall.size()),
@@ -101,7 +109,9 @@ struct WeaklyCompressibleSolver<T, D>::State {
         front(fluid, 0, T(c.dx)),
         energy(fluid, gravity_of(c)),
         total_mass(fluid) {
-    if (particles.fluid.empty()) throw Error("case '" + c.name + "': the column holds no particle at dx = " + std::to_string(c.dx));
+    if (particles.fluid.empty())
+      throw Error("case '" + c.name + "': the column holds no particle at dx = " + std::to_string(c.dx) +
+                  (removed_fluid ? " (the obstacles took all " + std::to_string(removed_fluid) + ")" : std::string()));
     for (const ProbeDescription& p : c.probes) {
       Vector x{};
       for (int a = 0; a < D; ++a) x[a] = T(p.position[a]);
@@ -430,6 +440,8 @@ struct WeaklyCompressibleSolver<T, D>::State {
   PolicyKind policy;
   WendlandC2Kernel<T, D> kernel;
   TankParticles<T, D> particles;
+  std::vector<Index> obstacle_counts;  // wall particles of each obstacle (after the tank's)
+  Index removed_fluid = 0;             // lattice points the obstacles took
   Box<T, D> domain;
   Body<T, D> fluid_body;
   Body<T, D> wall_body;
@@ -484,6 +496,10 @@ template <class T, int D>
 Index WeaklyCompressibleSolver<T, D>::fluid_count() const { return state_->fluid.size(); }
 template <class T, int D>
 Index WeaklyCompressibleSolver<T, D>::wall_count() const { return state_->wall.size(); }
+template <class T, int D>
+const std::vector<Index>& WeaklyCompressibleSolver<T, D>::obstacle_wall_counts() const { return state_->obstacle_counts; }
+template <class T, int D>
+Index WeaklyCompressibleSolver<T, D>::removed_fluid_count() const { return state_->removed_fluid; }
 template <class T, int D>
 double WeaklyCompressibleSolver<T, D>::smoothing_length() const { return double(state_->kernel.h); }
 template <class T, int D>
