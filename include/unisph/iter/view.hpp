@@ -108,13 +108,19 @@ struct LevelWalk {
   static constexpr bool filled_front =
       random_access && Forward && requires(const typename Traits::Handle& h) { Traits::filled_prefix(h); };
 
+  // Containers whose element counts always fit 32 bits (ContainerTraits::small_positions: the
+  // places of a row of cells, ...) are walked with 32-bit positions: on the GPU a 64-bit counter
+  // takes two registers and two instructions per step and per comparison.
+  static constexpr bool small = requires { requires Traits::small_positions; };
+  using Position = std::conditional_t<small, std::uint32_t, Index>;
+
   typename Traits::Handle handle{};
   typename Traits::Cursor stored_cursor{};  // lists only
-  Index position = 0;                       // in walking order
-  Index end_position = 0;                   // the position after the last trip
-  Index jump = 1;
-  Index count = 0;        // positions below count may hold elements, the others are padding
-  Index filled_end = 0;   // filled_front only: positions below it hold elements
+  Position position = 0;                    // in walking order
+  Position end_position = 0;                // the position after the last trip
+  Position jump = 1;
+  Position count = 0;       // positions below count may hold elements, the others are padding
+  Position filled_end = 0;  // filled_front only: positions below it hold elements
 
   // Positions only grow, by the jump, up to end_position = offset + trips * jump. `>=` rather than
   // `==` lets compilers count the trips of a loop over padding positions and drop it where the
@@ -401,20 +407,23 @@ class View : public std::ranges::view_base {
  private:
   UNISPH_HOST_DEVICE constexpr Walk start() const {
     Walk walk;
+    using Position = typename Walk::Position;
     walk.handle = handle_;
-    walk.count = element_count();
-    walk.jump = runtime_.get_jump() * group_.size();
+    const Index count = element_count();
+    const Index jump = runtime_.get_jump() * group_.size();
     const Index offset = runtime_.get_offset() + group_.rank() * runtime_.get_jump();
     Index trips;
     if constexpr (Traits::needs_runtime_size)
-      trips = trips_for(walk.count, offset, walk.jump);
+      trips = trips_for(count, offset, jump);
     else
       trips = fixed_trips_;  // the same for every container of this type (a frame's N slots)
-    walk.position = offset;
-    walk.end_position = offset + trips * walk.jump;
+    walk.count = Position(count);
+    walk.jump = Position(jump);
+    walk.position = Position(offset);
+    walk.end_position = Position(offset + trips * jump);
     if constexpr (Walk::filled_front) {
       const Index filled = Traits::filled_prefix(handle_);
-      walk.filled_end = filled < walk.count ? filled : walk.count;
+      walk.filled_end = Position(filled < count ? filled : count);
     }
     if constexpr (!Walk::random_access)
       if (offset < walk.count) walk.stored_cursor = Traits::start(handle_, offset, forward);
