@@ -2,10 +2,10 @@
 // Views over the stencil of a direct neighbour search (issue 8, part 3): the cells that can hold
 // neighbours of a position x, as the hierarchy the search walks.
 //
-//   StencilPlanes<T, 3, Order>  the planes of cells (along axis 2) of the stencil   child: StencilRows
-//   StencilRows<T, D, Order>    the rows of cells (along axis 1) of a plane (in 2D:  child: RowPlaces
+//   StencilPlanes<T, 3>         the planes of cells (along axis 2) of the stencil   child: StencilRows
+//   StencilRows<T, D>           the rows of cells (along axis 1) of a plane (in 2D:  child: RowPlaces
 //                               of the stencil)
-//   RowPlaces<T, D, Order>      the CSR places of one row of cells
+//   RowPlaces<T, D>             the CSR places of one row of cells
 //
 // A row is the unit because consecutive cells along axis 0 are consecutive places of the cell
 // list's CSR: the particles of a whole row are one contiguous range, walked by one plain loop
@@ -18,11 +18,14 @@
 // level's element count is known when its view starts (the view needs it for its trip count);
 // the trimming of a level below is computed when the parent hands it its element.
 //
-// Order says what a place holds and how to read a candidate from it (CandidateReader):
-//   CellOrder::indexed     a slot is the place's entry in `particles` (j); x_j = positions[j]
-//   CellOrder::contiguous  the particles are in cell order: a slot is positions[k], j = k
-//   CellOrder::copied      the cell-ordered copy of the positions (CellListView::points): a slot is
-//                          the place's entry in `particles` (j); x_j = points[k]
+// A slot of RowPlaces is the place's entry in the list's `particles` array; CandidateReader reads a
+// candidate from it in the cell list's order (CellOrder):
+//   CellOrder::indexed     j = *slot, x_j = positions[j]
+//   CellOrder::contiguous  the particles are in cell order: j = the place (no load), x_j = positions[j]
+//   CellOrder::copied      the cell-ordered copy of the positions (CellListView::points): j = *slot,
+//                          x_j = points[place]
+// The order is chosen per row (one branch per row, as the hand-written row walk did), so a
+// search has one walk of the stencil whatever the order.
 //
 // Every level walks with 32-bit positions (small_positions): on the GPU a 64-bit loop counter
 // costs two instructions per step and per compare, and two registers.
@@ -42,13 +45,18 @@
 
 namespace unisph::iter {
 
-// The raw arrays of a cell list a stencil walk reads (pointers into one memory space).
+// The cell list a stencil walk reads, by pointer: the kernel-side CellListView the search holds
+// (in device code, inside the kernel's parameters). Copying its arrays' pointers and the grid's
+// sizes into the walk's handles kept them in registers for the whole walk (3D double pressure
+// relaxation: 105 registers against 80, ptxas -v); read through the pointer, they stay
+// parameters the compiler loads where they are used.
 template <class T, int D>
 struct StencilArrays {
-  const Vec<T, D>* positions = nullptr;
-  const std::uint32_t* offsets = nullptr;
-  const std::uint32_t* particles = nullptr;
-  const CellPoint<T, D>* points = nullptr;  // CellOrder::copied only
+  const CellListView<T, D>* list = nullptr;
+  UNISPH_HOST_DEVICE const Vec<T, D>* positions() const { return list->positions.data(); }
+  UNISPH_HOST_DEVICE const std::uint32_t* offsets() const { return list->offsets.data(); }
+  UNISPH_HOST_DEVICE const std::uint32_t* particles() const { return list->particles.data(); }
+  UNISPH_HOST_DEVICE const CellPoint<T, D>* points() const { return list->points.data(); }
 };
 
 // Where the stencil stands: what every level needs to find and trim its cells. The arithmetic of
@@ -56,18 +64,17 @@ struct StencilArrays {
 // the same pairs in the same order, bit for bit).
 template <class T, int D>
 struct StencilCenter {
-  Vec<int, D> grid_cells{};
+  const SearchGrid<T, D>* grid = nullptr;
   Vec<int, D> cell{};  // the cell of x (clamped into the grid where x is outside the box)
   Vec<T, D> t{};       // x in cell units (trimming only)
-  int reach = 1;
   bool trim = false;
 
   // The cells along axis a within `reach` of cell[a] and inside the grid; when trimming, only
   // those whose cell-unit interval [k, k + 1) comes within sqrt(left2) of t[a].
   UNISPH_HOST_DEVICE void axis_range(int a, T left2, int& first, int& last) const {
     const int c = cell[a];
-    first = c - reach > 0 ? c - reach : 0;
-    last = c + reach < grid_cells[a] ? c + reach : grid_cells[a] - 1;
+    first = c - grid->reach > 0 ? c - grid->reach : 0;
+    last = c + grid->reach < grid->cells[a] ? c + grid->reach : grid->cells[a] - 1;
     if (trim) {
       const T half = std::sqrt(left2 > T(0) ? left2 : T(0));
       const T lo = std::floor(t[a] - half), hi = std::floor(t[a] + half);
@@ -86,19 +93,19 @@ struct StencilCenter {
 
 // ---- the places of one row -------------------------------------------------------------------
 
-template <class T, int D, CellOrder Order>
+template <class T, int D>
 struct RowPlaces {
-  const Vec<T, D>* positions = nullptr;      // CellOrder::contiguous
-  const std::uint32_t* particles = nullptr;  // CellOrder::indexed and copied
-  std::uint32_t begin = 0, end = 0;          // the CSR places [begin, end)
+  const std::uint32_t* particles = nullptr;
+  std::uint32_t begin = 0, end = 0;  // the CSR places [begin, end)
 };
 
-template <class T, int D, CellOrder Order>
-struct ContainerTraits<RowPlaces<T, D, Order>> : RandomAccessNavigation {
-  using Handle = RowPlaces<T, D, Order>;
-  using Component = std::conditional_t<Order == CellOrder::contiguous, const Vec<T, D>, const std::uint32_t>;
+template <class T, int D>
+struct ContainerTraits<RowPlaces<T, D>> : RandomAccessNavigation {
+  using Handle = RowPlaces<T, D>;
+  using Component = const std::uint32_t;  // the place's particle index
   static constexpr bool needs_runtime_size = true;
   static constexpr bool small_positions = true;
+  static constexpr bool every_slot_filled = true;
 
   UNISPH_HOST_DEVICE static constexpr Handle empty_handle() { return Handle{}; }
   UNISPH_HOST_DEVICE static constexpr Index size(const Handle& h) { return h.end - h.begin; }
@@ -110,25 +117,23 @@ struct ContainerTraits<RowPlaces<T, D, Order>> : RandomAccessNavigation {
   }
   UNISPH_HOST_DEVICE static constexpr bool holds_element(const Handle&, Cursor) { return true; }
   UNISPH_HOST_DEVICE static constexpr Component& element(const Handle& h, Cursor place) {
-    if constexpr (Order == CellOrder::contiguous)
-      return h.positions[h.begin + std::uint32_t(place)];
-    else
-      return h.particles[h.begin + std::uint32_t(place)];
+    return h.particles[h.begin + std::uint32_t(place)];
   }
 };
 
 // What a neighbour loop reads from a RowPlaces slot: j, x_j, and whether it is the source itself.
 template <class T, int D, CellOrder Order>
 struct CandidateReader {
-  using Slot = SlotRef<typename ContainerTraits<RowPlaces<T, D, Order>>::Component>;
+  using Slot = SlotRef<const std::uint32_t>;
   static constexpr std::uint64_t none = ~std::uint64_t(0);
 
   StencilArrays<T, D> arrays;
-  // The source itself, skipped in an inner relation: its index (indexed), or its slot (contiguous:
-  // in `positions`; copied: its place in `particles`), so that the test is one comparison and
-  // no index is computed for it. none / nullptr where nothing is skipped.
+  // The source itself, skipped in an inner relation: its index (indexed) or its slot in
+  // `particles` (contiguous: place i; copied: the source's place), so that the test is one
+  // comparison. none / nullptr where nothing is skipped.
   std::uint64_t self_index = none;
-  typename Slot::element_type* self_slot = nullptr;
+  const std::uint32_t* self_slot = nullptr;
+  std::uint32_t self_place = ~std::uint32_t(0);  // contiguous: i (a place never reaches 2^32 - 1)
 
   // `skip`: an inner relation; `source`: the source's index (indexed, contiguous) or its place in
   // the list (copied).
@@ -139,30 +144,34 @@ struct CandidateReader {
       if constexpr (Order == CellOrder::indexed)
         r.self_index = source;
       else if constexpr (Order == CellOrder::contiguous)
-        r.self_slot = arrays.positions + source;
+        r.self_place = std::uint32_t(source);
       else
-        r.self_slot = arrays.particles + source;
+        r.self_slot = arrays.particles() + source;
     }
     return r;
   }
 
+  // 32-bit: the list's places are 32-bit (and on the GPU a 64-bit index costs two registers).
+  UNISPH_HOST_DEVICE std::uint32_t place(Slot slot) const { return std::uint32_t(slot.get() - arrays.particles()); }
   UNISPH_HOST_DEVICE Index index(Slot slot) const {
     if constexpr (Order == CellOrder::contiguous)
-      return Index(slot.get() - arrays.positions);
+      return Index(place(slot));
     else
       return Index(*slot);
   }
   UNISPH_HOST_DEVICE Vec<T, D> position(Slot slot) const {
     if constexpr (Order == CellOrder::indexed)
-      return arrays.positions[*slot];
+      return arrays.positions()[*slot];
     else if constexpr (Order == CellOrder::contiguous)
-      return *slot;
+      return arrays.positions()[place(slot)];
     else
-      return arrays.points[slot.get() - arrays.particles].position();
+      return arrays.points()[place(slot)].position();
   }
   UNISPH_HOST_DEVICE bool is_self(Slot slot) const {
     if constexpr (Order == CellOrder::indexed)
       return std::uint64_t(*slot) == self_index;
+    else if constexpr (Order == CellOrder::contiguous)
+      return place(slot) == self_place;
     else
       return slot.get() == self_slot;
   }
@@ -170,7 +179,7 @@ struct CandidateReader {
 
 // ---- the rows of a plane ---------------------------------------------------------------------
 
-template <class T, int D, CellOrder Order>
+template <class T, int D>
 struct StencilRows {
   StencilArrays<T, D> arrays;
   StencilCenter<T, D> center;
@@ -180,13 +189,14 @@ struct StencilRows {
   int rows = 0;
 };
 
-template <class T, int D, CellOrder Order>
-struct ContainerTraits<StencilRows<T, D, Order>> : RandomAccessNavigation {
-  using Handle = StencilRows<T, D, Order>;
+template <class T, int D>
+struct ContainerTraits<StencilRows<T, D>> : RandomAccessNavigation {
+  using Handle = StencilRows<T, D>;
   using Component = const std::uint32_t;  // the row's first place in the CSR
-  using ChildContainer = RowPlaces<T, D, Order>;
+  using ChildContainer = RowPlaces<T, D>;
   static constexpr bool needs_runtime_size = true;
   static constexpr bool small_positions = true;
+  static constexpr bool every_slot_filled = true;
 
   UNISPH_HOST_DEVICE static constexpr Handle empty_handle() { return Handle{}; }
   UNISPH_HOST_DEVICE static constexpr Index size(const Handle& h) { return Index(h.rows); }
@@ -205,24 +215,23 @@ struct ContainerTraits<StencilRows<T, D, Order>> : RandomAccessNavigation {
     int first, last;
     h.center.axis_range(0, h.left2 - h.center.gap_squared(1, ky), first, last);
     length = last - first + 1;
-    Index index = D == 3 ? Index(h.plane) * Index(h.center.grid_cells[1]) + Index(ky) : Index(ky);
-    return index * Index(h.center.grid_cells[0]) + Index(first);
+    Index index = D == 3 ? Index(h.plane) * Index(h.center.grid->cells[1]) + Index(ky) : Index(ky);
+    return index * Index(h.center.grid->cells[0]) + Index(first);
   }
   UNISPH_HOST_DEVICE static Component& element(const Handle& h, Cursor row) {
     int length;
-    return h.arrays.offsets[first_cell(h, row, length)];
+    return h.arrays.offsets()[first_cell(h, row, length)];
   }
   UNISPH_HOST_DEVICE static ChildContainer child(const Handle& h, Cursor row) {
     int length;
     const Index cell = first_cell(h, row, length);
-    return {h.arrays.positions, h.arrays.particles, h.arrays.offsets[cell],
-            h.arrays.offsets[cell + static_cast<Index>(length)]};
+    return {h.arrays.particles(), h.arrays.offsets()[cell], h.arrays.offsets()[cell + static_cast<Index>(length)]};
   }
 };
 
 // ---- the planes of a 3D stencil ----------------------------------------------------------------
 
-template <class T, int D, CellOrder Order>
+template <class T, int D>
 struct StencilPlanes {
   static_assert(D == 3, "iter::StencilPlanes: only a 3D stencil has planes; a 2D stencil starts at StencilRows.");
   StencilArrays<T, D> arrays;
@@ -232,13 +241,14 @@ struct StencilPlanes {
   int planes = 0;
 };
 
-template <class T, int D, CellOrder Order>
-struct ContainerTraits<StencilPlanes<T, D, Order>> : RandomAccessNavigation {
-  using Handle = StencilPlanes<T, D, Order>;
+template <class T, int D>
+struct ContainerTraits<StencilPlanes<T, D>> : RandomAccessNavigation {
+  using Handle = StencilPlanes<T, D>;
   using Component = const std::uint32_t;  // the plane's first place in the CSR
-  using ChildContainer = StencilRows<T, D, Order>;
+  using ChildContainer = StencilRows<T, D>;
   static constexpr bool needs_runtime_size = true;
   static constexpr bool small_positions = true;
+  static constexpr bool every_slot_filled = true;
 
   UNISPH_HOST_DEVICE static constexpr Handle empty_handle() { return Handle{}; }
   UNISPH_HOST_DEVICE static constexpr Index size(const Handle& h) { return Index(h.planes); }
@@ -272,43 +282,42 @@ struct ContainerTraits<StencilPlanes<T, D, Order>> : RandomAccessNavigation {
 // The view of the stencil around x: planes -> rows -> places in 3D, rows -> places in 2D; one
 // worker, offset 0 and jump 1 at every level (CompileTimeTuple<>), so no position is padding
 // and a loop body needs no slot test.
-template <class T, int D, CellOrder Order>
+template <class T, int D>
 struct StencilView;
-template <class T, CellOrder Order>
-struct StencilView<T, 2, Order> {
-  using Places = View<RowPlaces<T, 2, Order>, direction::Forward, collectivity::None, CompileTimeTuple<>>;
-  using type = View<StencilRows<T, 2, Order>, direction::Forward, collectivity::None, CompileTimeTuple<>, Places>;
+template <class T>
+struct StencilView<T, 2> {
+  using Places = View<RowPlaces<T, 2>, direction::Forward, collectivity::None, CompileTimeTuple<>>;
+  using type = View<StencilRows<T, 2>, direction::Forward, collectivity::None, CompileTimeTuple<>, Places>;
 };
-template <class T, CellOrder Order>
-struct StencilView<T, 3, Order> {
-  using Places = View<RowPlaces<T, 3, Order>, direction::Forward, collectivity::None, CompileTimeTuple<>>;
-  using Rows = View<StencilRows<T, 3, Order>, direction::Forward, collectivity::None, CompileTimeTuple<>, Places>;
-  using type = View<StencilPlanes<T, 3, Order>, direction::Forward, collectivity::None, CompileTimeTuple<>, Rows>;
+template <class T>
+struct StencilView<T, 3> {
+  using Places = View<RowPlaces<T, 3>, direction::Forward, collectivity::None, CompileTimeTuple<>>;
+  using Rows = View<StencilRows<T, 3>, direction::Forward, collectivity::None, CompileTimeTuple<>, Places>;
+  using type = View<StencilPlanes<T, 3>, direction::Forward, collectivity::None, CompileTimeTuple<>, Rows>;
 };
-template <class T, int D, CellOrder Order>
-using stencil_view_t = typename StencilView<T, D, Order>::type;
+template <class T, int D>
+using stencil_view_t = typename StencilView<T, D>::type;
+template <class T, int D>
+using row_view_t = typename StencilView<T, D>::Places;
 
 // The stencil of a position whose placement in `grid` is `placement` (not non-finite). Where x is
 // inside the box and the cells are smaller than the cutoff, trimmed; otherwise the whole clamped
 // (2 reach + 1)^D block.
-template <CellOrder Order, class T, int D>
-UNISPH_HOST_DEVICE inline stencil_view_t<T, D, Order> stencil_around(const SearchGrid<T, D>& grid,
-                                                                     const StencilArrays<T, D>& arrays,
-                                                                     const CellPlacement<D>& placement,
-                                                                     const Vec<T, D>& x) {
+template <class T, int D>
+UNISPH_HOST_DEVICE inline stencil_view_t<T, D> stencil_around(const SearchGrid<T, D>& grid, const StencilArrays<T, D>& arrays,
+                                                              const CellPlacement<D>& placement, const Vec<T, D>& x) {
   StencilCenter<T, D> center;
-  center.grid_cells = grid.cells;
+  center.grid = &grid;
   center.cell = placement.cell;
-  center.reach = grid.reach;
   center.trim = grid.reach > 1 && placement.status == placement_inside;
   for (int a = 0; a < D; ++a) center.t[a] = center.trim ? grid.cell_coordinate(x, a) : T(0);
   const T radius2 = grid.stencil_radius * grid.stencil_radius;
   int first, last;
   center.axis_range(D - 1, radius2, first, last);
   const int count = last >= first ? last - first + 1 : 0;
-  using V = stencil_view_t<T, D, Order>;
+  using V = stencil_view_t<T, D>;
   if constexpr (D == 2) {
-    StencilRows<T, D, Order> rows;
+    StencilRows<T, D> rows;
     rows.arrays = arrays;
     rows.center = center;
     rows.left2 = radius2;
@@ -316,7 +325,7 @@ UNISPH_HOST_DEVICE inline stencil_view_t<T, D, Order> stencil_around(const Searc
     rows.rows = count;
     return V(rows);
   } else {
-    StencilPlanes<T, D, Order> planes;
+    StencilPlanes<T, D> planes;
     planes.arrays = arrays;
     planes.center = center;
     planes.radius2 = radius2;
@@ -326,8 +335,16 @@ UNISPH_HOST_DEVICE inline stencil_view_t<T, D, Order> stencil_around(const Searc
   }
 }
 
-static_assert(std::is_trivially_copyable_v<StencilPlanes<float, 3, CellOrder::indexed>> &&
-              std::is_trivially_copyable_v<StencilRows<double, 2, CellOrder::copied>> &&
-              std::is_trivially_copyable_v<RowPlaces<float, 3, CellOrder::contiguous>>);
+// g(row) for the view of each row of the stencil (its CSR places), row after row.
+template <class T, int D, class G>
+UNISPH_HOST_DEVICE inline void for_each_row(const stencil_view_t<T, D>& stencil, G&& g) {
+  if constexpr (D == 2)
+    stencil.for_each_child(g);
+  else
+    stencil.for_each_child([&](const typename StencilView<T, D>::Rows& rows) { rows.for_each_child(g); });
+}
+
+static_assert(std::is_trivially_copyable_v<StencilPlanes<float, 3>> && std::is_trivially_copyable_v<StencilRows<double, 2>> &&
+              std::is_trivially_copyable_v<RowPlaces<float, 3>>);
 
 }  // namespace unisph::iter

@@ -93,7 +93,10 @@ struct NeighborSearch {
       for_each_neighbor(s.particle, f);
       return;
     }
-    direct_neighbors<iter::CellOrder::copied>(targets.points[s.slot].position(), s.slot, f);
+    const Vec<T, D> xi = targets.points[s.slot].position();
+    const iter::StencilArrays<T, D> arrays = stencil_arrays();
+    const auto copied = iter::CandidateReader<T, D, iter::CellOrder::copied>::of(arrays, true, s.slot);
+    walk_rows(xi, arrays, [&](const iter::row_view_t<T, D>& row) { neighbors_in_row(row, xi, copied, f); });
   }
 
   // f(j, pair, w) for every neighbour, with w = weight(pair). Stored lists that carry a weight
@@ -135,68 +138,82 @@ struct NeighborSearch {
   // planes -> rows of cells -> the CSR places of a row) with the cutoff test on each candidate.
   template <class F>
   UNISPH_NEIGHBOR_LOOP UNISPH_HOST_DEVICE void for_each_direct_neighbor(Index i, F&& f) const {
-    // The particle order is tested once here, not in the loop: two view types.
-    if (targets.in_cell_order())
-      direct_neighbors<iter::CellOrder::contiguous>(sources[i], i, f);
-    else
-      direct_neighbors<iter::CellOrder::indexed>(sources[i], i, f);
+    const Vec<T, D> xi = sources[i];
+    const bool contiguous = targets.in_cell_order();
+    const iter::StencilArrays<T, D> arrays = stencil_arrays();
+    const auto by_index = iter::CandidateReader<T, D, iter::CellOrder::indexed>::of(arrays, inner, i);
+    const auto by_place = iter::CandidateReader<T, D, iter::CellOrder::contiguous>::of(arrays, inner, i);
+    walk_rows(xi, arrays, [&](const iter::row_view_t<T, D>& row) {
+      if (contiguous)
+        neighbors_in_row(row, xi, by_place, f);
+      else
+        neighbors_in_row(row, xi, by_index, f);
+    });
   }
 
   // g(j, x_i, x_j) for every candidate j of i (the particles of the walked cells, j != i in
   // an inner relation), in the order of the direct search; the cutoff test is g's.
   template <class G>
   UNISPH_NEIGHBOR_LOOP UNISPH_HOST_DEVICE void for_each_direct_candidate(Index i, G&& g) const {
-    if (targets.in_cell_order())
-      direct_candidates<iter::CellOrder::contiguous>(sources[i], i, g);
-    else
-      direct_candidates<iter::CellOrder::indexed>(sources[i], i, g);
+    const Vec<T, D> xi = sources[i];
+    const bool contiguous = targets.in_cell_order();
+    const iter::StencilArrays<T, D> arrays = stencil_arrays();
+    const auto by_index = iter::CandidateReader<T, D, iter::CellOrder::indexed>::of(arrays, inner, i);
+    const auto by_place = iter::CandidateReader<T, D, iter::CellOrder::contiguous>::of(arrays, inner, i);
+    walk_rows(xi, arrays, [&](const iter::row_view_t<T, D>& row) {
+      if (contiguous)
+        candidates_in_row(row, xi, by_place, g);
+      else
+        candidates_in_row(row, xi, by_index, g);
+    });
   }
 
   // How many particles a direct search of i looks at (candidate pairs, for benchmarks).
   UNISPH_HOST_DEVICE Index candidate_count(Index i) const {
     Index count = 0;
-    walk_stencil<iter::CellOrder::indexed>(sources[i], [&](auto) { ++count; });
+    walk_rows(sources[i], stencil_arrays(), [&](const iter::row_view_t<T, D>& row) { count += row.element_count(); });
     return count;
   }
 
-  // The one walk of the direct search: visit(slot) for every slot of the stencil around x (the
-  // cells that can hold neighbours of x: the 3^D around its own; with cells smaller than the
-  // cutoff, those of the (2 reach + 1)^D whose nearest point comes within the cutoff), row after
-  // row, each row's places in CSR order. A position with a NaN coordinate has no neighbours, nor,
-  // in an inner relation whose list flags outside particles, one outside the box; other positions
-  // outside the box walk the whole clamped stencil.
-  template <iter::CellOrder Order, class V>
-  UNISPH_NEIGHBOR_LOOP UNISPH_HOST_DEVICE void walk_stencil(const Vec<T, D>& x, V&& visit) const {
+  // The one walk of the direct search: g(row) for the view of each row of the stencil around x
+  // (the cells that can hold neighbours of x: the 3^D around its own; with cells smaller than
+  // the cutoff, those of the (2 reach + 1)^D whose nearest point comes within the cutoff), a row
+  // being one contiguous range of CSR places. A position with a NaN coordinate has no
+  // neighbours, nor, in an inner relation whose list flags outside particles, one outside the
+  // box; other positions outside the box walk the whole clamped stencil. The caller walks each
+  // row (choosing per row how to read its candidates: one branch per row, not per candidate).
+  template <class G>
+  UNISPH_NEIGHBOR_LOOP UNISPH_HOST_DEVICE void walk_rows(const Vec<T, D>& x, const iter::StencilArrays<T, D>& arrays,
+                                                         G&& g) const {
     const CellPlacement<D> placement = targets.grid.place(x);
     if (placement.status & placement_non_finite) return;
     if (inner && targets.flag_outside && placement.status != placement_inside) return;
-    iter::stencil_around<Order>(targets.grid, stencil_arrays(), placement, x).for_each(visit);
+    iter::for_each_row<T, D>(iter::stencil_around(targets.grid, arrays, placement, x), g);
   }
 
   UNISPH_HOST_DEVICE iter::StencilArrays<T, D> stencil_arrays() const {
-    return {targets.positions.data(), targets.offsets.data(), targets.particles.data(), targets.points.data()};
+    return {&targets};
   }
 
-  // f(j, pair) for the neighbours of the source at x; `source` is its index, or its place in
-  // the list for CellOrder::copied (skipped in an inner relation).
-  template <iter::CellOrder Order, class F>
-  UNISPH_NEIGHBOR_LOOP UNISPH_HOST_DEVICE void direct_neighbors(const Vec<T, D>& xi, Index source, F& f) const {
-    const auto read = iter::CandidateReader<T, D, Order>::of(stencil_arrays(), inner, source);
-    walk_stencil<Order>(xi, [&](typename iter::CandidateReader<T, D, Order>::Slot slot) {
+  // f(j, pair) for the neighbours of x_i among the candidates of one row.
+  template <class Reader, class F>
+  UNISPH_NEIGHBOR_LOOP UNISPH_HOST_DEVICE void neighbors_in_row(const iter::row_view_t<T, D>& row, const Vec<T, D>& xi,
+                                                                const Reader& read, F& f) const {
+    row.for_each([&](typename Reader::Slot slot) {
       if (read.is_self(slot)) return;
       NeighborPair<T, D> pair;
       if (targets.grid.test_pair(xi, read.position(slot), pair.r_ij, pair.squared_distance)) {
-        // The index only for the pairs within the cutoff (in cell order it is a pointer difference).
         pair.complete();
         f(read.index(slot), static_cast<const NeighborPair<T, D>&>(pair));
       }
     });
   }
 
-  template <iter::CellOrder Order, class G>
-  UNISPH_NEIGHBOR_LOOP UNISPH_HOST_DEVICE void direct_candidates(const Vec<T, D>& xi, Index source, G& g) const {
-    const auto read = iter::CandidateReader<T, D, Order>::of(stencil_arrays(), inner, source);
-    walk_stencil<Order>(xi, [&](typename iter::CandidateReader<T, D, Order>::Slot slot) {
+  // g(j, x_i, x_j) for the candidates of one row.
+  template <class Reader, class G>
+  UNISPH_NEIGHBOR_LOOP UNISPH_HOST_DEVICE void candidates_in_row(const iter::row_view_t<T, D>& row, const Vec<T, D>& xi,
+                                                                 const Reader& read, G& g) const {
+    row.for_each([&](typename Reader::Slot slot) {
       if (!read.is_self(slot)) g(read.index(slot), xi, read.position(slot));
     });
   }
