@@ -33,8 +33,6 @@ namespace unisph::iter {
 enum class CellOrder {
   indexed,     // the particles of place k: particles[k]
   contiguous,  // the particles are in cell order: place k is particle k
-  copied,      // the positions are read from the list's cell-ordered copy (stencil walks only:
-               // iter/stencil_traits.hpp)
 };
 
 // What every cell-list container holds to reach the particles: raw pointers into one memory space.
@@ -56,9 +54,6 @@ struct CellListArrays {
 
 template <class T, int D, CellOrder Order>
 struct CellParticles {
-  static_assert(Order != CellOrder::copied,
-                "iter::CellParticles yields positions of the particle array; a walk over the cell-ordered copy of "
-                "the positions (CellOrder::copied) is a stencil walk (iter/stencil_traits.hpp).");
   const Vec<T, D>* positions = nullptr;
   const std::uint32_t* particles = nullptr;  // unused for CellOrder::contiguous
   Index begin = 0;                           // the CSR places [begin, end)

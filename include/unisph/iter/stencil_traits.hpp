@@ -22,9 +22,7 @@
 // candidate from it in the cell list's order (CellOrder):
 //   CellOrder::indexed     j = *slot, x_j = positions[j]
 //   CellOrder::contiguous  the particles are in cell order: j = the place (no load), x_j = positions[j]
-//   CellOrder::copied      the cell-ordered copy of the positions (CellListView::points): j = *slot,
-//                          x_j = points[place]
-// The order is chosen per row (one branch per row, as the hand-written row walk did), so a
+// The order is chosen per row (one branch per row, as the hand-written row walk does), so a
 // search has one walk of the stencil whatever the order.
 //
 // Every level walks with 32-bit positions (small_positions): on the GPU a 64-bit loop counter
@@ -56,7 +54,6 @@ struct StencilArrays {
   UNISPH_HOST_DEVICE const Vec<T, D>* positions() const { return list->positions.data(); }
   UNISPH_HOST_DEVICE const std::uint32_t* offsets() const { return list->offsets.data(); }
   UNISPH_HOST_DEVICE const std::uint32_t* particles() const { return list->particles.data(); }
-  UNISPH_HOST_DEVICE const CellPoint<T, D>* points() const { return list->points.data(); }
 };
 
 // Where the stencil stands: what every level needs to find and trim its cells. The arithmetic of
@@ -124,29 +121,27 @@ struct ContainerTraits<RowPlaces<T, D>> : RandomAccessNavigation {
 // What a neighbour loop reads from a RowPlaces slot: j, x_j, and whether it is the source itself.
 template <class T, int D, CellOrder Order>
 struct CandidateReader {
+  static_assert(Order == CellOrder::indexed || Order == CellOrder::contiguous,
+                "iter::CandidateReader reads a row's candidates from the particle array, by index (indexed) or in "
+                "cell order (contiguous).");
   using Slot = SlotRef<const std::uint32_t>;
   static constexpr std::uint64_t none = ~std::uint64_t(0);
 
   StencilArrays<T, D> arrays;
-  // The source itself, skipped in an inner relation: its index (indexed) or its slot in
-  // `particles` (contiguous: place i; copied: the source's place), so that the test is one
-  // comparison. none / nullptr where nothing is skipped.
+  // The source itself, skipped in an inner relation: its index (indexed) or its place (contiguous:
+  // place i), so that the test is one comparison. none where nothing is skipped.
   std::uint64_t self_index = none;
-  const std::uint32_t* self_slot = nullptr;
-  std::uint32_t self_place = ~std::uint32_t(0);  // contiguous: i (a place never reaches 2^32 - 1)
+  std::uint32_t self_place = ~std::uint32_t(0);  // a place never reaches 2^32 - 1
 
-  // `skip`: an inner relation; `source`: the source's index (indexed, contiguous) or its place in
-  // the list (copied).
+  // `skip`: an inner relation; `source`: the source's index.
   UNISPH_HOST_DEVICE static CandidateReader of(const StencilArrays<T, D>& arrays, bool skip, Index source) {
     CandidateReader r;
     r.arrays = arrays;
     if (skip) {
       if constexpr (Order == CellOrder::indexed)
         r.self_index = source;
-      else if constexpr (Order == CellOrder::contiguous)
-        r.self_place = std::uint32_t(source);
       else
-        r.self_slot = arrays.particles() + source;
+        r.self_place = std::uint32_t(source);
     }
     return r;
   }
@@ -162,18 +157,14 @@ struct CandidateReader {
   UNISPH_HOST_DEVICE Vec<T, D> position(Slot slot) const {
     if constexpr (Order == CellOrder::indexed)
       return arrays.positions()[*slot];
-    else if constexpr (Order == CellOrder::contiguous)
-      return arrays.positions()[place(slot)];
     else
-      return arrays.points()[place(slot)].position();
+      return arrays.positions()[place(slot)];
   }
   UNISPH_HOST_DEVICE bool is_self(Slot slot) const {
     if constexpr (Order == CellOrder::indexed)
       return std::uint64_t(*slot) == self_index;
-    else if constexpr (Order == CellOrder::contiguous)
-      return place(slot) == self_place;
     else
-      return slot.get() == self_slot;
+      return place(slot) == self_place;
   }
 };
 

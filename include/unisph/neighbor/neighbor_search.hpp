@@ -27,7 +27,6 @@
 #include <cmath>
 #include <cstdint>
 
-#include "unisph/iter/stencil_traits.hpp"
 #include "unisph/neighbor/cell_linked_list.hpp"
 #include "unisph/neighbor/neighbor_pair.hpp"
 
@@ -94,9 +93,16 @@ struct NeighborSearch {
       return;
     }
     const Vec<T, D> xi = targets.points[s.slot].position();
-    const iter::StencilArrays<T, D> arrays = stencil_arrays();
-    const auto copied = iter::CandidateReader<T, D, iter::CellOrder::copied>::of(arrays, true, s.slot);
-    walk_rows(xi, arrays, [&](const iter::row_view_t<T, D>& row) { neighbors_in_row(row, xi, copied, f); });
+    for_each_candidate_range(xi, [&](std::uint32_t begin, std::uint32_t end) {
+      for (std::uint32_t k = begin; k < end; ++k) {
+        if (k == s.slot) continue;  // i itself: its one place in the list
+        NeighborPair<T, D> pair;
+        if (targets.grid.test_pair(xi, targets.points[k].position(), pair.r_ij, pair.squared_distance)) {
+          pair.complete();
+          f(Index(targets.particles[k]), static_cast<const NeighborPair<T, D>&>(pair));
+        }
+      }
+    });
   }
 
   // f(j, pair, w) for every neighbour, with w = weight(pair). Stored lists that carry a weight
@@ -134,20 +140,20 @@ struct NeighborSearch {
     for (std::uint64_t k = 0; k < n; ++k, slot += list_slot_stride) f(Index(list_neighbors[slot]), list_pairs[slot]);
   }
 
-  // The direct search: the stencil around x_i as a hierarchical view (iter/stencil_traits.hpp:
-  // planes -> rows of cells -> the CSR places of a row) with the cutoff test on each candidate.
+  // The row walk below, not the hierarchical view walk (iter::for_each_neighbor, iter/neighbor_views.hpp:
+  // the stencil as planes -> rows of cells -> the CSR places of a row, the same pairs in the same
+  // order). With the view walk as the engine (commit 27d81cb of branch wt-views) the SPH solver on an
+  // H100 stayed within 5 % (bench/sph, 3D dx 0.0125 float -3.7 %, double +0.1 % fluid steps/s), but
+  // neighbor_bench's GPU density pass did not: +9 % in Morton order, +17 to +27 % through the
+  // cell-ordered copy of the positions (its kernel: 40 registers against this walk's 32; docs/views.md).
   template <class F>
   UNISPH_NEIGHBOR_LOOP UNISPH_HOST_DEVICE void for_each_direct_neighbor(Index i, F&& f) const {
-    const Vec<T, D> xi = sources[i];
-    const bool contiguous = targets.in_cell_order();
-    const iter::StencilArrays<T, D> arrays = stencil_arrays();
-    const auto by_index = iter::CandidateReader<T, D, iter::CellOrder::indexed>::of(arrays, inner, i);
-    const auto by_place = iter::CandidateReader<T, D, iter::CellOrder::contiguous>::of(arrays, inner, i);
-    walk_rows(xi, arrays, [&](const iter::row_view_t<T, D>& row) {
-      if (contiguous)
-        neighbors_in_row(row, xi, by_place, f);
-      else
-        neighbors_in_row(row, xi, by_index, f);
+    for_each_direct_candidate(i, [&](Index j, const Vec<T, D>& xi, const Vec<T, D>& xj) {
+      NeighborPair<T, D> pair;
+      if (targets.grid.test_pair(xi, xj, pair.r_ij, pair.squared_distance)) {
+        pair.complete();
+        f(j, static_cast<const NeighborPair<T, D>&>(pair));
+      }
     });
   }
 
@@ -156,66 +162,95 @@ struct NeighborSearch {
   template <class G>
   UNISPH_NEIGHBOR_LOOP UNISPH_HOST_DEVICE void for_each_direct_candidate(Index i, G&& g) const {
     const Vec<T, D> xi = sources[i];
-    const bool contiguous = targets.in_cell_order();
-    const iter::StencilArrays<T, D> arrays = stencil_arrays();
-    const auto by_index = iter::CandidateReader<T, D, iter::CellOrder::indexed>::of(arrays, inner, i);
-    const auto by_place = iter::CandidateReader<T, D, iter::CellOrder::contiguous>::of(arrays, inner, i);
-    walk_rows(xi, arrays, [&](const iter::row_view_t<T, D>& row) {
-      if (contiguous)
-        candidates_in_row(row, xi, by_place, g);
-      else
-        candidates_in_row(row, xi, by_index, g);
+    const bool cell_order = targets.in_cell_order();
+    for_each_candidate_range(xi, [&](std::uint32_t begin, std::uint32_t end) {
+      if (begin >= end) return;
+      if (cell_order) {
+        // The row's particles are the indices [begin, end): contiguous reads, no indirection.
+        for (std::uint32_t j = begin; j < end; ++j)
+          if (!(inner && j == i)) g(Index(j), xi, targets.positions[j]);
+      } else {
+        for (std::uint32_t k = begin; k < end; ++k) {
+          const Index j = targets.particles[k];
+          if (!(inner && j == i)) g(j, xi, targets.positions[j]);
+        }
+      }
     });
   }
 
   // How many particles a direct search of i looks at (candidate pairs, for benchmarks).
   UNISPH_HOST_DEVICE Index candidate_count(Index i) const {
     Index count = 0;
-    walk_rows(sources[i], stencil_arrays(), [&](const iter::row_view_t<T, D>& row) { count += row.element_count(); });
+    for_each_candidate_range(sources[i], [&](std::uint32_t begin, std::uint32_t end) { count += end - begin; });
     return count;
   }
 
-  // The one walk of the direct search: g(row) for the view of each row of the stencil around x
-  // (the cells that can hold neighbours of x: the 3^D around its own; with cells smaller than
-  // the cutoff, those of the (2 reach + 1)^D whose nearest point comes within the cutoff), a row
-  // being one contiguous range of CSR places. A position with a NaN coordinate has no
-  // neighbours, nor, in an inner relation whose list flags outside particles, one outside the
-  // box; other positions outside the box walk the whole clamped stencil. The caller walks each
-  // row (choosing per row how to read its candidates: one branch per row, not per candidate).
+  // Calls g(begin, end) for the CSR ranges [begin, end) of `targets.particles` that can hold
+  // neighbours of x: one range per row of cells along axis 0 (consecutive in the CSR). With
+  // cells smaller than the cutoff (grid.reach > 1) the cells whose nearest point is beyond
+  // the cutoff are skipped, axis by axis (planes, then rows, then the ends of each row); the
+  // test is in cell units with a padded radius (SearchGrid::stencil_radius), so it never
+  // skips a neighbour. Positions outside the box walk the whole clamped stencil.
   template <class G>
-  UNISPH_NEIGHBOR_LOOP UNISPH_HOST_DEVICE void walk_rows(const Vec<T, D>& x, const iter::StencilArrays<T, D>& arrays,
-                                                         G&& g) const {
-    const CellPlacement<D> placement = targets.grid.place(x);
+  UNISPH_HOST_DEVICE void for_each_candidate_range(const Vec<T, D>& x, G&& g) const {
+    const SearchGrid<T, D>& grid = targets.grid;
+    const CellPlacement<D> placement = grid.place(x);
     if (placement.status & placement_non_finite) return;
     if (inner && targets.flag_outside && placement.status != placement_inside) return;
-    iter::for_each_row<T, D>(iter::stencil_around(targets.grid, arrays, placement, x), g);
-  }
-
-  UNISPH_HOST_DEVICE iter::StencilArrays<T, D> stencil_arrays() const {
-    return {&targets};
-  }
-
-  // f(j, pair) for the neighbours of x_i among the candidates of one row.
-  template <class Reader, class F>
-  UNISPH_NEIGHBOR_LOOP UNISPH_HOST_DEVICE void neighbors_in_row(const iter::row_view_t<T, D>& row, const Vec<T, D>& xi,
-                                                                const Reader& read, F& f) const {
-    row.for_each([&](typename Reader::Slot slot) {
-      if (read.is_self(slot)) return;
-      NeighborPair<T, D> pair;
-      if (targets.grid.test_pair(xi, read.position(slot), pair.r_ij, pair.squared_distance)) {
-        pair.complete();
-        f(read.index(slot), static_cast<const NeighborPair<T, D>&>(pair));
+    const bool trim = grid.reach > 1 && placement.status == placement_inside;
+    Vec<T, D> t;
+    for (int a = 0; a < D; ++a) t[a] = trim ? grid.cell_coordinate(x, a) : T(0);
+    const T radius2 = grid.stencil_radius * grid.stencil_radius;
+    Vec<int, D> cell = placement.cell;
+    const auto row = [&](T left2) {  // left2: the squared radius left after axes 1..D-1
+      int first, last;
+      axis_range(0, placement.cell[0], trim, t[0], left2, first, last);
+      cell[0] = first;
+      const Index first_cell = grid.linear_index(cell);
+      g(targets.offsets[first_cell], targets.offsets[first_cell + static_cast<Index>(last - first) + 1]);
+    };
+    int y_first, y_last;
+    if constexpr (D == 2) {
+      axis_range(1, placement.cell[1], trim, t[1], radius2, y_first, y_last);
+      for (int ky = y_first; ky <= y_last; ++ky) {
+        cell[1] = ky;
+        row(radius2 - gap_squared(trim, ky, t[1]));
       }
-    });
+    } else {
+      int z_first, z_last;
+      axis_range(2, placement.cell[2], trim, t[2], radius2, z_first, z_last);
+      for (int kz = z_first; kz <= z_last; ++kz) {
+        cell[2] = kz;
+        const T left_z = radius2 - gap_squared(trim, kz, t[2]);
+        axis_range(1, placement.cell[1], trim, t[1], left_z, y_first, y_last);
+        for (int ky = y_first; ky <= y_last; ++ky) {
+          cell[1] = ky;
+          row(left_z - gap_squared(trim, ky, t[1]));
+        }
+      }
+    }
   }
 
-  // g(j, x_i, x_j) for the candidates of one row.
-  template <class Reader, class G>
-  UNISPH_NEIGHBOR_LOOP UNISPH_HOST_DEVICE void candidates_in_row(const iter::row_view_t<T, D>& row, const Vec<T, D>& xi,
-                                                                 const Reader& read, G& g) const {
-    row.for_each([&](typename Reader::Slot slot) {
-      if (!read.is_self(slot)) g(read.index(slot), xi, read.position(slot));
-    });
+  // The cells along axis a within `reach` of cell c and inside the grid; when trimming, only
+  // those whose cell-unit interval [k, k + 1) comes within sqrt(left2) of t.
+  UNISPH_HOST_DEVICE void axis_range(int a, int c, bool trim, T t, T left2, int& first, int& last) const {
+    const SearchGrid<T, D>& grid = targets.grid;
+    first = c - grid.reach > 0 ? c - grid.reach : 0;
+    last = c + grid.reach < grid.cells[a] ? c + grid.reach : grid.cells[a] - 1;
+    if (trim) {
+      const T half = std::sqrt(left2 > T(0) ? left2 : T(0));
+      const T lo = std::floor(t - half), hi = std::floor(t + half);
+      if (lo > T(first)) first = static_cast<int>(lo);
+      if (hi < T(last)) last = static_cast<int>(hi);
+    }
+  }
+
+  // The squared distance in cell units from t to the cell interval [k, k + 1) (0 without trimming).
+  UNISPH_HOST_DEVICE static T gap_squared(bool trim, int k, T t) {
+    if (!trim) return T(0);
+    const T below = T(k) - t, above = t - T(k + 1);
+    const T gap = below > T(0) ? below : (above > T(0) ? above : T(0));
+    return gap * gap;
   }
 };
 
