@@ -23,7 +23,7 @@ namespace detail {
 
 // f(j, pair) for the neighbours of x_i among the candidates of one row.
 template <class T, int D, class Reader, class F>
-UNISPH_HOST_DEVICE inline void neighbors_in_row(const SearchGrid<T, D>& grid, const row_view_t<T, D>& row,
+UNISPH_NEIGHBOR_LOOP UNISPH_HOST_DEVICE inline void neighbors_in_row(const SearchGrid<T, D>& grid, const row_view_t<T, D>& row,
                                                 const Vec<T, D>& xi, const Reader& read, F& f) {
   row.for_each([&](typename Reader::Slot slot) {
     if (read.is_self(slot)) return;
@@ -37,9 +37,10 @@ UNISPH_HOST_DEVICE inline void neighbors_in_row(const SearchGrid<T, D>& grid, co
 
 }  // namespace detail
 
-// f(j, pair) for every neighbour j of source i (see the top of this file).
+// f(j, pair) for every neighbour j of source i (see the top of this file). Host compilers inline
+// the whole walk and f into it (UNISPH_NEIGHBOR_LOOP), as for the direct search.
 template <class T, int D, class F>
-UNISPH_HOST_DEVICE inline void for_each_neighbor(const NeighborSearch<T, D>& search, Index i, F&& f) {
+UNISPH_NEIGHBOR_LOOP UNISPH_HOST_DEVICE inline void for_each_neighbor(const NeighborSearch<T, D>& search, Index i, F&& f) {
   const Vec<T, D> xi = search.sources[i];
   const SearchGrid<T, D>& grid = search.targets.grid;
   const CellPlacement<D> placement = grid.place(xi);
