@@ -304,7 +304,7 @@ UNISPH_HOST_DEVICE void hand_neighbors(const NeighborSearch<T, D>& s, Index i, F
     if (s.inner && j == i) return;
     NeighborPair<T, D> pair;
     if (grid.test_pair(xi, s.targets.positions[j], pair.r_ij, pair.squared_distance)) {
-      iter::detail::complete_pair(pair);
+      pair.complete();
       f(j, static_cast<const NeighborPair<T, D>&>(pair));
     }
   };
@@ -335,7 +335,7 @@ UNISPH_HOST_DEVICE void iterator_neighbors_in(const NeighborSearch<T, D>& s, Ind
     if (s.targets.grid.test_pair(xi, *slot, pair.r_ij, pair.squared_distance)) {
       const Index j = iter::particle_index(arrays.positions, slot);
       if (s.inner && j == i) continue;
-      iter::detail::complete_pair(pair);
+      pair.complete();
       f(j, static_cast<const NeighborPair<T, D>&>(pair));
     }
   }
@@ -485,7 +485,26 @@ struct ByPackage {
   }
 };
 
-enum Loop { by_data_point, by_for_each, by_iterators, by_plain_package };
+// A team of 4^3 workers per package (collective_for: a CUDA block of 64 threads on the device):
+// the package's view with the points' child view shared by the team, one point per worker, the
+// device form of data_point_for's thread per data point written with views.
+struct ByTeam {
+  iter::DataPackages<const Real, D> packages;
+  Real* out;
+  template <class Team>
+  UNISPH_HOST_DEVICE void operator()(const Team& team, Index q) const {
+    using Points = iter::View<iter::PackagePoints<const Real, D>, direction::Forward, Team, iter::CompileTimeTuple<>>;
+    const iter::View<iter::DataPackages<const Real, D>, direction::Forward, collectivity::None, RuntimeTuple, Points>
+        view(packages, RuntimeTuple{q, all, packages.packages}, Points(nullptr, {}, iter::NoChild{}, team));
+    view.for_each([&](iter::SlotRef<const Real> slot) {
+      if (!slot) return;
+      const Index k = Index(slot.get() - packages.values);
+      out[k] = Real(2) * *slot + Real(k % points);
+    });
+  }
+};
+
+enum Loop { by_data_point, by_for_each, by_iterators, by_plain_package, by_team };
 
 template <class P, int L>
 void Packages(benchmark::State& state) {
@@ -515,6 +534,8 @@ void Packages(benchmark::State& state) {
       particle_for(P{}, mesh.data_packages(), ByView<true>{packages, y.data()});
     else if constexpr (L == by_iterators)
       particle_for(P{}, mesh.data_packages(), ByView<false>{packages, y.data()});
+    else if constexpr (L == by_team)
+      iter::collective_for(P{}, mesh.data_packages(), points, ByTeam{packages, y.data()});
     else
       particle_for(P{}, mesh.data_packages(), ByPackage{x, y});
   };
@@ -572,6 +593,7 @@ UNISPH_VIEWS_BENCHMARK("strided", "view/team", PerTeam, TeamView<true, iterator_
 UNISPH_VIEWS_BENCHMARK("strided", "for_each/team", PerTeam, TeamView<true, for_each_loop>)
 UNISPH_VIEWS_BENCHMARK("strided", "nested/team", PerTeam, TeamView<true, nested_loop>)
 UNISPH_VIEWS_BENCHMARK("strided", "hand/team", PerTeam, TeamHand<true>)
+UNISPH_VIEWS_BENCHMARK("packages", "team/device", Packages, ParallelDevicePolicy, pk::by_team)
 #endif
 
 }  // namespace

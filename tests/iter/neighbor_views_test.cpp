@@ -1,5 +1,5 @@
-// Neighbour iteration written with views (iter/neighbor_views.hpp) against the direct search of
-// NeighborSearch: for every source particle, the same neighbours j in the same order with the
+// Neighbour iteration written with views (iter/neighbor_views.hpp, the engine's direct search)
+// against the hand-written row walk it replaced: for every source particle, the same neighbours j in the same order with the
 // same pair geometry, bit for bit, on every policy; over the layouts of the neighbour tests
 // (random, a lattice on cell and box faces, clustered, one cell, one particle, none), particles
 // in any order and in cell order, cells of the cutoff and of half of it (a 5^D block), outside
@@ -24,16 +24,88 @@ using namespace unisph;
 using unisph::testing::Layout;
 namespace scenarios = unisph::testing;
 
-// The reference: the direct search's row walk (consecutive CSR ranges per row of cells) with
-// the cutoff test, written out here so that the test stays a comparison of the two walks
-// whichever one NeighborSearch::for_each_direct_neighbor uses.
+// The reference: the row walk the direct search ran before it was written with views (up to
+// commit b717efc), kept here as a hand-written loop: per row of stencil cells one CSR range
+// (consecutive cells of a row are consecutive places), the rows beyond the cutoff and the ends of
+// each row trimmed with cells smaller than the cutoff, the cutoff test on each candidate. The
+// engine (NeighborSearch::for_each_direct_neighbor, through iter::for_each_neighbor) must give
+// the same pairs in the same order, bit for bit.
+template <class T, int D>
+struct RowWalk {
+  const NeighborSearch<T, D>& search;
+
+  UNISPH_HOST_DEVICE void axis_range(const Vec<int, D>& c, int a, bool trim, T t, T left2, int& first, int& last) const {
+    const SearchGrid<T, D>& grid = search.targets.grid;
+    first = c[a] - grid.reach > 0 ? c[a] - grid.reach : 0;
+    last = c[a] + grid.reach < grid.cells[a] ? c[a] + grid.reach : grid.cells[a] - 1;
+    if (trim) {
+      const T half = std::sqrt(left2 > T(0) ? left2 : T(0));
+      const T lo = std::floor(t - half), hi = std::floor(t + half);
+      if (lo > T(first)) first = static_cast<int>(lo);
+      if (hi < T(last)) last = static_cast<int>(hi);
+    }
+  }
+  UNISPH_HOST_DEVICE static T gap_squared(bool trim, int k, T t) {
+    if (!trim) return T(0);
+    const T below = T(k) - t, above = t - T(k + 1);
+    const T gap = below > T(0) ? below : (above > T(0) ? above : T(0));
+    return gap * gap;
+  }
+  // g(begin, end) for the CSR range of each row of the stencil around x.
+  template <class G>
+  UNISPH_HOST_DEVICE void ranges(const Vec<T, D>& x, G&& g) const {
+    const SearchGrid<T, D>& grid = search.targets.grid;
+    const CellPlacement<D> placement = grid.place(x);
+    if (placement.status & placement_non_finite) return;
+    if (search.inner && search.targets.flag_outside && placement.status != placement_inside) return;
+    const bool trim = grid.reach > 1 && placement.status == placement_inside;
+    Vec<T, D> t;
+    for (int a = 0; a < D; ++a) t[a] = trim ? grid.cell_coordinate(x, a) : T(0);
+    const T radius2 = grid.stencil_radius * grid.stencil_radius;
+    Vec<int, D> cell = placement.cell;
+    const auto row = [&](T left2) {
+      int first, last;
+      axis_range(placement.cell, 0, trim, t[0], left2, first, last);
+      cell[0] = first;
+      const Index first_cell = grid.linear_index(cell);
+      g(search.targets.offsets[first_cell], search.targets.offsets[first_cell + static_cast<Index>(last - first) + 1]);
+    };
+    int y_first, y_last;
+    if constexpr (D == 2) {
+      axis_range(placement.cell, 1, trim, t[1], radius2, y_first, y_last);
+      for (int ky = y_first; ky <= y_last; ++ky) {
+        cell[1] = ky;
+        row(radius2 - gap_squared(trim, ky, t[1]));
+      }
+    } else {
+      int z_first, z_last;
+      axis_range(placement.cell, 2, trim, t[2], radius2, z_first, z_last);
+      for (int kz = z_first; kz <= z_last; ++kz) {
+        cell[2] = kz;
+        const T left_z = radius2 - gap_squared(trim, kz, t[2]);
+        axis_range(placement.cell, 1, trim, t[1], left_z, y_first, y_last);
+        for (int ky = y_first; ky <= y_last; ++ky) {
+          cell[1] = ky;
+          row(left_z - gap_squared(trim, ky, t[1]));
+        }
+      }
+    }
+  }
+};
+
 template <class T, int D, class F>
 UNISPH_HOST_DEVICE void row_walk(const NeighborSearch<T, D>& search, Index i, F&& f) {
-  search.for_each_direct_candidate(i, [&](Index j, const Vec<T, D>& xi, const Vec<T, D>& xj) {
-    NeighborPair<T, D> pair;
-    if (search.targets.grid.test_pair(xi, xj, pair.r_ij, pair.squared_distance)) {
-      pair.complete();
-      f(j, static_cast<const NeighborPair<T, D>&>(pair));
+  const Vec<T, D> xi = search.sources[i];
+  const bool cell_order = search.targets.in_cell_order();
+  RowWalk<T, D>{search}.ranges(xi, [&](std::uint32_t begin, std::uint32_t end) {
+    for (std::uint32_t k = begin; k < end; ++k) {
+      const Index j = cell_order ? Index(k) : Index(search.targets.particles[k]);
+      if (search.inner && j == i) continue;
+      NeighborPair<T, D> pair;
+      if (search.targets.grid.test_pair(xi, search.targets.positions[j], pair.r_ij, pair.squared_distance)) {
+        pair.complete();
+        f(j, static_cast<const NeighborPair<T, D>&>(pair));
+      }
     }
   });
 }

@@ -23,6 +23,9 @@
 //   random_access              true where the cursor follows from the position (RandomAccessNavigation)
 //   filled_prefix(h), slot_count(h)  where the elements fill the first filled_prefix of slot_count
 //                              slots (a frame): View::for_each then walks them without a test
+//   every_slot_filled          true where every slot holds an element (holds_element is always
+//                              true): a walk without padding positions then tests no slot
+//   small_positions            true where element counts always fit 32 bits: 32-bit positions
 
 #include <type_traits>
 

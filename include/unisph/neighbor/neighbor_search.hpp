@@ -140,11 +140,12 @@ struct NeighborSearch {
     for (std::uint64_t k = 0; k < n; ++k, slot += list_slot_stride) f(Index(list_neighbors[slot]), list_pairs[slot]);
   }
 
-  // The row walk below, not the hierarchical view walk (iter::for_each_neighbor, which gives the
-  // same pairs in the same order): with the view walk inside the SPH kernels the GPU dam break
-  // ran 25-30 % slower (H200, bench/sph, A/B/A in one call: 3D dx 0.0125 float 1.77e8 against
-  // 2.45e8 fluid-particle steps/s; docs/views.md), although in the plain density pass of
-  // views_bench it is within 5 %.
+  // The row walk below, not the hierarchical view walk (iter::for_each_neighbor, iter/neighbor_views.hpp:
+  // the stencil as planes -> rows of cells -> the CSR places of a row, the same pairs in the same
+  // order). With the view walk as the engine (commit 27d81cb of branch wt-views) the SPH solver on an
+  // H100 stayed within 5 % (bench/sph, 3D dx 0.0125 float -3.7 %, double +0.1 % fluid steps/s), but
+  // neighbor_bench's GPU density pass did not: +9 % in Morton order, +17 to +27 % through the
+  // cell-ordered copy of the positions (its kernel: 40 registers against this walk's 32; docs/views.md).
   template <class F>
   UNISPH_NEIGHBOR_LOOP UNISPH_HOST_DEVICE void for_each_direct_neighbor(Index i, F&& f) const {
     for_each_direct_candidate(i, [&](Index j, const Vec<T, D>& xi, const Vec<T, D>& xj) {
