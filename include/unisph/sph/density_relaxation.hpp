@@ -20,6 +20,7 @@
 #include "unisph/neighbor/inner_relation.hpp"
 #include "unisph/sph/acoustic_riemann_solver.hpp"
 #include "unisph/sph/fluid_variables.hpp"
+#include "unisph/sph/neighbor_records.hpp"
 #include "unisph/sph/wall_dummy_pressure.hpp"
 #include "unisph/sph/wendland_kernel.hpp"
 
@@ -36,8 +37,10 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
 
   struct Kernel {
     NeighborSearch<T, D> inner, contact;
-    View<const Vec<T, D>> velocity, prior_acceleration, wall_normal;
-    View<const T> density, pressure, mass;
+    View<const PositionVolume<T, D>> position_volume;  // of the fluid neighbours
+    View<const VelocityPressure<T, D>> velocity_pressure;
+    View<const Vec<T, D>> prior_acceleration, wall_normal;
+    View<const T> density;
     View<T> density_change_rate;
     WendlandC2Kernel<T, D> kernel;
     AcousticRiemannSolver<T> riemann;
@@ -45,15 +48,19 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
     T dissipation;  // k
 
     UNISPH_HOST_DEVICE void interaction(Index i, Real) const {
-      const Vec<T, D> v_i = velocity[i];
-      const T p_i = pressure[i];
+      const VelocityPressure<T, D> own = velocity_pressure[i];
+      const Vec<T, D> v_i = own.velocity;
+      const T p_i = own.pressure;
       T rate = T(0);
       const PairKernelDerivative<T, D> derivative{kernel};  // dW/dr, cached in stored lists
-      inner.for_each_weighted_neighbor(i, derivative, [&](Index j, const NeighborPair<T, D>& pair, T dW) {
-        const Vec<T, D>& e = pair.direction();
-        const T divergence = dot(v_i - velocity[j], e) + dissipation * riemann.velocity_dissipation(p_i, pressure[j]);
-        rate += divergence * dW * mass[j] / density[j];
-      });
+      for_each_neighbor_record(inner, position_volume, i, derivative,
+                               [&](Index j, const PositionVolume<T, D>& r_j, const NeighborPair<T, D>& pair, T dW) {
+                                 const VelocityPressure<T, D> s_j = velocity_pressure[j];
+                                 const Vec<T, D>& e = pair.direction();
+                                 const T divergence = dot(v_i - s_j.velocity, e) +
+                                                      dissipation * riemann.velocity_dissipation(p_i, s_j.pressure);
+                                 rate += divergence * dW * r_j.volume;
+                               });
       const Vec<T, D> a0 = prior_acceleration[i];
       const T rho_i = density[i];
       contact.for_each_weighted_neighbor(i, derivative, [&](Index w, const NeighborPair<T, D>& pair, T dW) {
@@ -70,11 +77,18 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
 
   Kernel make_kernel(KernelContext& c) {
     const PairKernelDerivative<T, D> derivative{kernel_};
-    return {inner_.search(c, derivative), contact_.search(c, derivative), c.read(fluid_.velocity),
+    return {inner_.search(c, derivative),
+            contact_.search(c, derivative),
+            c.read(fluid_.neighbor_position_volume),
+            c.read(fluid_.neighbor_velocity_pressure),
             c.read(fluid_.prior_acceleration),
             c.read(wall_.normal),
-            c.read(fluid_.density), c.read(fluid_.pressure), c.read(fluid_.mass),
-            c.write(fluid_.density_change_rate), kernel_, riemann_, wall_volume_, dissipation_};
+            c.read(fluid_.density),
+            c.write(fluid_.density_change_rate),
+            kernel_,
+            riemann_,
+            wall_volume_,
+            dissipation_};
   }
   Index size() const { return fluid_.size(); }
 

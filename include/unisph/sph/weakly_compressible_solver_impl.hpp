@@ -14,6 +14,7 @@
 #include "unisph/neighbor/particle_sorter.hpp"
 #include "unisph/sph/density_relaxation.hpp"
 #include "unisph/sph/density_summation.hpp"
+#include "unisph/sph/neighbor_records.hpp"
 #include "unisph/sph/fused_updates.hpp"
 #include "unisph/sph/observers.hpp"
 #include "unisph/sph/pressure_relaxation.hpp"
@@ -98,6 +99,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
         max_speed(fluid),
         velocity_update_and_max_speed(velocity_update, max_speed),
         density_update_and_start(density_update, pressure_start),
+        refresh_records(fluid),
         front(fluid, 0, T(c.dx)),
         energy(fluid, gravity_of(c)),
         total_mass(fluid) {
@@ -154,6 +156,8 @@ struct WeaklyCompressibleSolver<T, D>::State {
     // With stored lists, dW/dr of each pair is cached with its geometry (the relaxations read it).
     inner.update(p, PairKernelDerivative<T, D>{kernel});
     contact.update(p, PairKernelDerivative<T, D>{kernel});
+    // After a sort or a restore the relaxations' neighbour records follow the new order.
+    refresh_records.exec(p);
     const CellListReport report = fluid_cells.report();
     if (report.out_of_box != 0 || report.non_finite != 0) diagnose("a fluid particle left the domain");
   }
@@ -455,6 +459,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
   MaximumSpeed<T, D> max_speed;
   VelocityUpdateAndMaxSpeed<T, D> velocity_update_and_max_speed;
   DensityUpdateAndPressureStart<T, D> density_update_and_start;
+  RefreshNeighborRecords<T, D> refresh_records;
   FrontPosition<T, D> front;
   MechanicalEnergy<T, D> energy;
   TotalMass<T, D> total_mass;
