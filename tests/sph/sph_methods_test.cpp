@@ -3,15 +3,19 @@
 // the dam break agree with seq, mass is conserved exactly, water at rest stays at rest.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "support/policy_test.hpp"
 #include "unisph/sph/acoustic_riemann_solver.hpp"
 #include "unisph/sph/case_file.hpp"
 #include "unisph/sph/fluid_variables.hpp"
 #include "unisph/sph/tank_particles.hpp"
+#include "unisph/sph/wall_free_box.hpp"
 #include "unisph/sph/weakly_compressible_solver.hpp"
 #include "unisph/sph/wendland_kernel.hpp"
 
@@ -109,6 +113,34 @@ std::string error_of(const std::string& text) {
     return e.what();
   }
   return "";
+}
+
+// Every point of the wall-free box is farther than the cutoff from every wall particle (the
+// nearest point of the box to each is), so skipping the wall walk there drops no pair.
+TEST(HostSphWallFreeBox, HoldsNoPointWithinTheCutoffOfTheWall) {
+  for (const auto& [tank, dx] : {std::pair{std::vector<double>{5.366, 2.0}, 0.05}, {std::vector<double>{1.0, 0.7}, 0.013}}) {
+    const TankParticles<float, 2> p = make_tank_particles<float, 2>(tank, {0.5, 0.5}, dx);
+    const double cutoff = 2 * 1.3 * dx;
+    const WallFreeBox<float, 2> box = WallFreeBox<float, 2>::of_tank(tank, p.wall, cutoff);
+    ASSERT_LT(box.lower[0], box.upper[0]);
+    double nearest = 1e300;
+    for (const Vec<float, 2>& w : p.wall) {
+      double d2 = 0;
+      for (int a = 0; a < 2; ++a) {
+        const double c = std::min(std::max(double(w[a]), double(box.lower[a])), double(box.upper[a]));
+        d2 += (double(w[a]) - c) * (double(w[a]) - c);
+      }
+      nearest = std::min(nearest, std::sqrt(d2));
+    }
+    EXPECT_GT(nearest, cutoff);
+    const Vec<float, 2> middle{float(tank[0] / 2), float(tank[1] / 2)};
+    EXPECT_TRUE(box.contains(middle));
+    std::vector<Vec<float, 2>> inside = p.wall;
+    inside.push_back(middle);
+    const WallFreeBox<float, 2> none = WallFreeBox<float, 2>::of_tank(tank, inside, cutoff);
+    EXPECT_FALSE(none.contains(middle))
+        << "a wall particle inside the tank empties the box";
+  }
 }
 
 TEST(HostSphCaseFile, ReadsAValidCase) {

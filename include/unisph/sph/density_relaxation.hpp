@@ -22,6 +22,7 @@
 #include "unisph/sph/fluid_variables.hpp"
 #include "unisph/sph/neighbor_records.hpp"
 #include "unisph/sph/wall_dummy_pressure.hpp"
+#include "unisph/sph/wall_free_box.hpp"
 #include "unisph/sph/wendland_kernel.hpp"
 
 namespace unisph::sph {
@@ -31,9 +32,9 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
  public:
   DensityRelaxation(FluidVariables<T, D>& fluid, WallVariables<T, D>& wall, InnerRelation<T, D>& inner,
                     ContactRelation<T, D>& contact, WendlandC2Kernel<T, D> kernel, AcousticRiemannSolver<T> riemann,
-                    T wall_volume, bool riemann_dissipation)
+                    T wall_volume, bool riemann_dissipation, WallFreeBox<T, D> wall_free)
       : fluid_(fluid), wall_(wall), inner_(inner), contact_(contact), kernel_(kernel), riemann_(riemann),
-        wall_volume_(wall_volume), dissipation_(riemann_dissipation ? T(1) : T(0)) {}
+        wall_volume_(wall_volume), dissipation_(riemann_dissipation ? T(1) : T(0)), wall_free_(wall_free) {}
 
   struct Kernel {
     NeighborSearch<T, D> inner, contact;
@@ -46,6 +47,7 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
     AcousticRiemannSolver<T> riemann;
     T wall_volume;
     T dissipation;  // k
+    WallFreeBox<T, D> wall_free;  // no wall neighbour inside
 
     UNISPH_HOST_DEVICE void interaction(Index i, Real) const {
       const VelocityPressure<T, D> own = velocity_pressure[i];
@@ -61,15 +63,17 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
                                                       dissipation * riemann.velocity_dissipation(p_i, s_j.pressure);
                                  rate += divergence * dW * r_j.volume;
                                });
-      const Vec<T, D> a0 = prior_acceleration[i];
       const T rho_i = density[i];
-      contact.for_each_weighted_neighbor(i, derivative, [&](Index w, const NeighborPair<T, D>& pair, T dW) {
-        const Vec<T, D>& e = pair.direction();
-        const Vec<T, D> n = wall_normal[w];
-        const T p_w = wall_dummy_pressure(p_i, rho_i, a0, pair.r_ij);
-        const T divergence = T(2) * dot(v_i, n) * dot(n, e) + dissipation * riemann.velocity_dissipation(p_i, p_w);
-        rate += divergence * dW * wall_volume;
-      });
+      if (contact.uses_stored_lists() || !wall_free.contains(position_volume[i].position)) {
+        const Vec<T, D> a0 = prior_acceleration[i];
+        contact.for_each_weighted_neighbor(i, derivative, [&](Index w, const NeighborPair<T, D>& pair, T dW) {
+          const Vec<T, D>& e = pair.direction();
+          const Vec<T, D> n = wall_normal[w];
+          const T p_w = wall_dummy_pressure(p_i, rho_i, a0, pair.r_ij);
+          const T divergence = T(2) * dot(v_i, n) * dot(n, e) + dissipation * riemann.velocity_dissipation(p_i, p_w);
+          rate += divergence * dW * wall_volume;
+        });
+      }
       density_change_rate[i] = rate * rho_i;
     }
   };
@@ -88,7 +92,8 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
             kernel_,
             riemann_,
             wall_volume_,
-            dissipation_};
+            dissipation_,
+            wall_free_};
   }
   Index size() const { return fluid_.size(); }
 
@@ -101,6 +106,7 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
   AcousticRiemannSolver<T> riemann_;
   T wall_volume_;
   T dissipation_;
+  WallFreeBox<T, D> wall_free_;
 };
 
 template <class T, int D>

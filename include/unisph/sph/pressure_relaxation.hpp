@@ -29,6 +29,7 @@
 #include "unisph/sph/fluid_variables.hpp"
 #include "unisph/sph/neighbor_records.hpp"
 #include "unisph/sph/wall_dummy_pressure.hpp"
+#include "unisph/sph/wall_free_box.hpp"
 #include "unisph/sph/wendland_kernel.hpp"
 
 namespace unisph::sph {
@@ -77,9 +78,9 @@ class PressureRelaxation : public InteractionDynamics<PressureRelaxation<T, D>> 
  public:
   PressureRelaxation(FluidVariables<T, D>& fluid, WallVariables<T, D>& wall, InnerRelation<T, D>& inner,
                      ContactRelation<T, D>& contact, WendlandC2Kernel<T, D> kernel, AcousticRiemannSolver<T> riemann,
-                     T wall_volume)
+                     T wall_volume, WallFreeBox<T, D> wall_free)
       : fluid_(fluid), wall_(wall), inner_(inner), contact_(contact), kernel_(kernel), riemann_(riemann),
-        wall_volume_(wall_volume) {}
+        wall_volume_(wall_volume), wall_free_(wall_free) {}
 
   struct Kernel {
     NeighborSearch<T, D> inner, contact;
@@ -91,6 +92,7 @@ class PressureRelaxation : public InteractionDynamics<PressureRelaxation<T, D>> 
     WendlandC2Kernel<T, D> kernel;
     AcousticRiemannSolver<T> riemann;
     T wall_volume;
+    WallFreeBox<T, D> wall_free;  // no wall neighbour inside
 
     UNISPH_HOST_DEVICE void interaction(Index i, Real) const {
       const VelocityPressure<T, D> own = velocity_pressure[i];
@@ -107,14 +109,16 @@ class PressureRelaxation : public InteractionDynamics<PressureRelaxation<T, D>> 
                                  const T weight = dW * r_j.volume;
                                  force += e * (riemann.twice_interface_pressure(p_i, s_j.pressure, jump) * weight);
                                });
-      const Vec<T, D> a0 = prior_acceleration[i];
-      contact.for_each_weighted_neighbor(i, derivative, [&](Index w, const NeighborPair<T, D>& pair, T dW) {
-        const Vec<T, D>& e = pair.direction();
-        const Vec<T, D> n = wall_normal[w];
-        const T p_w = wall_dummy_pressure(p_i, rho_i, a0, pair.r_ij);
-        const T jump = -T(2) * dot(v_i, n);
-        force += e * (riemann.twice_interface_pressure(p_i, p_w, jump) * dW * wall_volume);
-      });
+      if (contact.uses_stored_lists() || !wall_free.contains(position_volume[i].position)) {
+        const Vec<T, D> a0 = prior_acceleration[i];
+        contact.for_each_weighted_neighbor(i, derivative, [&](Index w, const NeighborPair<T, D>& pair, T dW) {
+          const Vec<T, D>& e = pair.direction();
+          const Vec<T, D> n = wall_normal[w];
+          const T p_w = wall_dummy_pressure(p_i, rho_i, a0, pair.r_ij);
+          const T jump = -T(2) * dot(v_i, n);
+          force += e * (riemann.twice_interface_pressure(p_i, p_w, jump) * dW * wall_volume);
+        });
+      }
       acceleration[i] = force * (-T(1) / rho_i);
     }
   };
@@ -132,7 +136,8 @@ class PressureRelaxation : public InteractionDynamics<PressureRelaxation<T, D>> 
             c.write(fluid_.acceleration),
             kernel_,
             riemann_,
-            wall_volume_};
+            wall_volume_,
+            wall_free_};
   }
   Index size() const { return fluid_.size(); }
 
@@ -144,6 +149,7 @@ class PressureRelaxation : public InteractionDynamics<PressureRelaxation<T, D>> 
   WendlandC2Kernel<T, D> kernel_;
   AcousticRiemannSolver<T> riemann_;
   T wall_volume_;
+  WallFreeBox<T, D> wall_free_;
 };
 
 template <class T, int D>

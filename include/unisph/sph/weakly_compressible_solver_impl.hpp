@@ -22,6 +22,7 @@
 #include "unisph/sph/prior_acceleration.hpp"
 #include "unisph/sph/tank_particles.hpp"
 #include "unisph/sph/time_step.hpp"
+#include "unisph/sph/wall_free_box.hpp"
 #include "unisph/sph/weakly_compressible_solver.hpp"
 
 namespace unisph::sph {
@@ -92,9 +93,10 @@ struct WeaklyCompressibleSolver<T, D>::State {
         density_summation(fluid, inner, contact, kernel, T(c.dx), T(c.density)),
         prior_acceleration(fluid, inner, contact, kernel, gravity_of(c), T(c.viscosity), wall_volume),
         pressure_start(fluid, eos),
-        pressure_relaxation(fluid, wall, inner, contact, kernel, riemann, wall_volume),
+        wall_free(WallFreeBox<T, D>::of_tank(c.tank, particles.wall, double(kernel.cutoff()))),
+        pressure_relaxation(fluid, wall, inner, contact, kernel, riemann, wall_volume, wall_free),
         velocity_update(fluid),
-        density_relaxation(fluid, wall, inner, contact, kernel, riemann, wall_volume, c.continuity_dissipation),
+        density_relaxation(fluid, wall, inner, contact, kernel, riemann, wall_volume, c.continuity_dissipation, wall_free),
         density_update(fluid),
         max_speed(fluid),
         velocity_update_and_max_speed(velocity_update, max_speed),
@@ -452,6 +454,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
   DensitySummationFreeSurface<T, D> density_summation;
   PriorAcceleration<T, D> prior_acceleration;
   PressureRelaxationStart<T, D> pressure_start;
+  WallFreeBox<T, D> wall_free;  // of the tank: fluid particles there have no wall neighbour
   PressureRelaxation<T, D> pressure_relaxation;
   VelocityUpdate<T, D> velocity_update;
   DensityRelaxation<T, D> density_relaxation;
