@@ -56,23 +56,14 @@ UNISPH_NEIGHBOR_LOOP UNISPH_HOST_DEVICE void for_each_neighbor_record(const Neig
   }
   const Vec<T, D> xi = search.sources[i];
   search.for_each_candidate_range(xi, [&](std::uint32_t begin, std::uint32_t end) {
-    // Each thread first finds its next neighbour in the row, then calls f: on a GPU the lanes
-    // of a warp run f together, as often as the most neighbours a lane has in the row, rather
-    // than once for each candidate where any lane has a neighbour.
-    std::uint32_t j = begin;
-    for (;;) {
-      PositionVolume<T, D> record;
+    for (std::uint32_t j = begin; j < end; ++j) {
+      if (search.inner && j == i) continue;
+      const PositionVolume<T, D> record = records[j];
       NeighborPair<T, D> pair;
-      bool found = false;
-      for (; j < end && !found; ++j) {
-        if (search.inner && j == i) continue;
-        record = records[j];
-        found = search.targets.grid.test_pair(xi, record.position, pair.r_ij, pair.squared_distance);
+      if (search.targets.grid.test_pair(xi, record.position, pair.r_ij, pair.squared_distance)) {
+        pair.complete();
+        f(Index(j), record, static_cast<const NeighborPair<T, D>&>(pair), weight(pair));
       }
-      if (!found) return;
-      pair.complete();
-      f(Index(j - 1), static_cast<const PositionVolume<T, D>&>(record), static_cast<const NeighborPair<T, D>&>(pair),
-        weight(pair));
     }
   });
 }
