@@ -25,9 +25,9 @@ namespace unisph::sph {
 
 // How a pair loop holds the {v_j, p_j} record it reads. On the device a copy: one 16-byte load
 // (through a reference nvcc loads the four words one by one; PTX checked). On the host a
-// reference: GCC copies the 16-byte-aligned record through the stack, and with the copy the 2D
-// dam break's seq pressure pass ran 13 % slower than main's scalar reads (measured; with the
-// reference it is as fast or faster).
+// reference: with the copy the 2D dam break's seq pressure pass ran 13 % slower than with the
+// former scalar reads (measured; likely GCC copies the aligned record through the stack), with
+// the reference as fast or faster.
 #if UNISPH_DEVICE_CODE
 template <class T, int D>
 using VelocityPressureRead = VelocityPressure<T, D>;
