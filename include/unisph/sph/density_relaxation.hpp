@@ -20,7 +20,9 @@
 #include "unisph/neighbor/inner_relation.hpp"
 #include "unisph/sph/acoustic_riemann_solver.hpp"
 #include "unisph/sph/fluid_variables.hpp"
+#include "unisph/sph/neighbor_records.hpp"
 #include "unisph/sph/wall_dummy_pressure.hpp"
+#include "unisph/sph/wall_free_box.hpp"
 #include "unisph/sph/wendland_kernel.hpp"
 
 namespace unisph::sph {
@@ -30,39 +32,48 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
  public:
   DensityRelaxation(FluidVariables<T, D>& fluid, WallVariables<T, D>& wall, InnerRelation<T, D>& inner,
                     ContactRelation<T, D>& contact, WendlandC2Kernel<T, D> kernel, AcousticRiemannSolver<T> riemann,
-                    T wall_volume, bool riemann_dissipation)
+                    T wall_volume, bool riemann_dissipation, WallFreeBox<T, D> wall_free)
       : fluid_(fluid), wall_(wall), inner_(inner), contact_(contact), kernel_(kernel), riemann_(riemann),
-        wall_volume_(wall_volume), dissipation_(riemann_dissipation ? T(1) : T(0)) {}
+        wall_volume_(wall_volume), dissipation_(riemann_dissipation ? T(1) : T(0)), wall_free_(wall_free) {}
 
   struct Kernel {
     NeighborSearch<T, D> inner, contact;
-    View<const Vec<T, D>> velocity, prior_acceleration, wall_normal;
-    View<const T> density, pressure, mass;
+    View<const PositionVolume<T, D>> position_volume;  // of the fluid neighbours
+    View<const VelocityPressure<T, D>> velocity_pressure;
+    View<const Vec<T, D>> prior_acceleration, wall_normal;
+    View<const T> density;
     View<T> density_change_rate;
     WendlandC2Kernel<T, D> kernel;
     AcousticRiemannSolver<T> riemann;
     T wall_volume;
     T dissipation;  // k
+    WallFreeBox<T, D> wall_free;  // no wall neighbour inside
 
     UNISPH_HOST_DEVICE void interaction(Index i, Real) const {
-      const Vec<T, D> v_i = velocity[i];
-      const T p_i = pressure[i];
+      const VelocityPressure<T, D> own = velocity_pressure[i];
+      const Vec<T, D> v_i = own.velocity;
+      const T p_i = own.pressure;
       T rate = T(0);
       const PairKernelDerivative<T, D> derivative{kernel};  // dW/dr, cached in stored lists
-      inner.for_each_weighted_neighbor(i, derivative, [&](Index j, const NeighborPair<T, D>& pair, T dW) {
-        const Vec<T, D>& e = pair.direction();
-        const T divergence = dot(v_i - velocity[j], e) + dissipation * riemann.velocity_dissipation(p_i, pressure[j]);
-        rate += divergence * dW * mass[j] / density[j];
-      });
-      const Vec<T, D> a0 = prior_acceleration[i];
+      for_each_neighbor_record(inner, position_volume, i, derivative,
+                               [&](Index j, const PositionVolume<T, D>& r_j, const NeighborPair<T, D>& pair, T dW) {
+                                 const VelocityPressureRead<T, D> s_j = velocity_pressure[j];
+                                 const Vec<T, D>& e = pair.direction();
+                                 const T divergence = dot(v_i - s_j.velocity, e) +
+                                                      dissipation * riemann.velocity_dissipation(p_i, s_j.pressure);
+                                 rate += divergence * dW * r_j.volume;
+                               });
       const T rho_i = density[i];
-      contact.for_each_weighted_neighbor(i, derivative, [&](Index w, const NeighborPair<T, D>& pair, T dW) {
-        const Vec<T, D>& e = pair.direction();
-        const Vec<T, D> n = wall_normal[w];
-        const T p_w = wall_dummy_pressure(p_i, rho_i, a0, pair.r_ij);
-        const T divergence = T(2) * dot(v_i, n) * dot(n, e) + dissipation * riemann.velocity_dissipation(p_i, p_w);
-        rate += divergence * dW * wall_volume;
-      });
+      if (contact.uses_stored_lists() || !wall_free.contains(position_volume[i].position)) {
+        const Vec<T, D> a0 = prior_acceleration[i];
+        contact.for_each_weighted_neighbor(i, derivative, [&](Index w, const NeighborPair<T, D>& pair, T dW) {
+          const Vec<T, D>& e = pair.direction();
+          const Vec<T, D> n = wall_normal[w];
+          const T p_w = wall_dummy_pressure(p_i, rho_i, a0, pair.r_ij);
+          const T divergence = T(2) * dot(v_i, n) * dot(n, e) + dissipation * riemann.velocity_dissipation(p_i, p_w);
+          rate += divergence * dW * wall_volume;
+        });
+      }
       density_change_rate[i] = rate * rho_i;
     }
   };
@@ -70,11 +81,19 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
 
   Kernel make_kernel(KernelContext& c) {
     const PairKernelDerivative<T, D> derivative{kernel_};
-    return {inner_.search(c, derivative), contact_.search(c, derivative), c.read(fluid_.velocity),
+    return {inner_.search(c, derivative),
+            contact_.search(c, derivative),
+            c.read(fluid_.neighbor_position_volume),
+            c.read(fluid_.neighbor_velocity_pressure),
             c.read(fluid_.prior_acceleration),
             c.read(wall_.normal),
-            c.read(fluid_.density), c.read(fluid_.pressure), c.read(fluid_.mass),
-            c.write(fluid_.density_change_rate), kernel_, riemann_, wall_volume_, dissipation_};
+            c.read(fluid_.density),
+            c.write(fluid_.density_change_rate),
+            kernel_,
+            riemann_,
+            wall_volume_,
+            dissipation_,
+            wall_free_};
   }
   Index size() const { return fluid_.size(); }
 
@@ -87,6 +106,7 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
   AcousticRiemannSolver<T> riemann_;
   T wall_volume_;
   T dissipation_;
+  WallFreeBox<T, D> wall_free_;
 };
 
 template <class T, int D>

@@ -1,10 +1,23 @@
 #pragma once
-// The named variables of a weakly compressible fluid body and of a wall body. All fluid
+// The named variables of a weakly compressible fluid body and of a wall body. The fluid's state
 // variables are sortable (they move with the particles when the set is reordered) and the
-// physical ones are written to the output.
+// physical ones are written to the output; its two neighbour records are derived from them.
 #include "unisph/particles/body.hpp"
 
 namespace unisph::sph {
+
+// Derived neighbour records (neighbor_records.hpp): what a relaxation pair reads of neighbour j
+// in one aligned 16-byte load each (two for double in 3D).
+template <class T, int D>
+struct alignas(16) PositionVolume {
+  Vec<T, D> position;
+  T volume;  // m / rho
+};
+template <class T, int D>
+struct alignas(16) VelocityPressure {
+  Vec<T, D> velocity;
+  T pressure;
+};
 
 template <class T, int D>
 struct FluidVariables {
@@ -17,6 +30,10 @@ struct FluidVariables {
   DiscreteVariable<T>& pressure;
   DiscreteVariable<T>& mass;
   DiscreteVariable<T>& density_change_rate;
+  // Derived, neither sorted nor output nor in checkpoints: refreshed by the kernels that change
+  // x, v, p or rho and after a sort or a restore (neighbor_records.hpp).
+  DiscreteVariable<PositionVolume<T, D>>& neighbor_position_volume;
+  DiscreteVariable<VelocityPressure<T, D>>& neighbor_velocity_pressure;
 
   explicit FluidVariables(Body<T, D>& body)
       : position(body.positions()),
@@ -26,7 +43,11 @@ struct FluidVariables {
         density(body.particles().template add_variable<T>("Density", sortable_output_variable)),
         pressure(body.particles().template add_variable<T>("Pressure", sortable_output_variable)),
         mass(body.particles().template add_variable<T>("Mass", sortable_output_variable)),
-        density_change_rate(body.particles().template add_variable<T>("DensityChangeRate", sortable_variable)) {}
+        density_change_rate(body.particles().template add_variable<T>("DensityChangeRate", sortable_variable)),
+        neighbor_position_volume(
+            body.particles().template add_variable<PositionVolume<T, D>>("NeighborPositionVolume")),
+        neighbor_velocity_pressure(
+            body.particles().template add_variable<VelocityPressure<T, D>>("NeighborVelocityPressure")) {}
 
   Index size() const { return position.size(); }
 };

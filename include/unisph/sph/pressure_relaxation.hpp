@@ -14,6 +14,9 @@
 //                             the wall (measured: a tank at rest then circulates).
 //   VelocityUpdate            v += (a + a0) dt, x += v dt/2   (the second half's position step)
 //
+// The start and the velocity update also refresh the neighbour records (neighbor_records.hpp)
+// that the relaxations read of each fluid neighbour j: {x_j, m_j/rho_j} and {v_j, p_j}.
+//
 // The acceleration is stored and applied in its own kernel because PressureRelaxation
 // reads the velocities of the neighbours.
 #include <type_traits>
@@ -24,7 +27,9 @@
 #include "unisph/sph/acoustic_riemann_solver.hpp"
 #include "unisph/sph/equation_of_state.hpp"
 #include "unisph/sph/fluid_variables.hpp"
+#include "unisph/sph/neighbor_records.hpp"
 #include "unisph/sph/wall_dummy_pressure.hpp"
+#include "unisph/sph/wall_free_box.hpp"
 #include "unisph/sph/wendland_kernel.hpp"
 
 namespace unisph::sph {
@@ -38,20 +43,28 @@ class PressureRelaxationStart : public UpdateDynamics<PressureRelaxationStart<T,
     View<Vec<T, D>> position;
     View<const Vec<T, D>> velocity;
     View<T> density, pressure;
-    View<const T> density_change_rate;
+    View<const T> density_change_rate, mass;
     WeaklyCompressibleEquationOfState<T> eos;
+    NeighborRecordWriter<T, D> records;  // x, p and rho change here
     UNISPH_HOST_DEVICE void update(Index i, Real dt_real) const {
       const T half_dt = T(0.5) * T(dt_real);
       const T rho = density[i] + density_change_rate[i] * half_dt;
       density[i] = rho;
-      pressure[i] = eos.pressure(rho);
-      position[i] += velocity[i] * half_dt;
+      const T p = eos.pressure(rho);
+      pressure[i] = p;
+      const Vec<T, D> v = velocity[i];
+      Vec<T, D> x = position[i];
+      x += v * half_dt;
+      position[i] = x;
+      records.store(i, x, v, p, mass[i], rho);
     }
   };
   static_assert(std::is_trivially_copyable_v<Kernel>, "Kernels are copied to the device byte for byte.");
   Kernel make_kernel(KernelContext& c) {
-    return {c.read_write(fluid_.position), c.read(fluid_.velocity), c.read_write(fluid_.density),
-            c.write(fluid_.pressure), c.read(fluid_.density_change_rate), eos_};
+    return {c.read_write(fluid_.position), c.read(fluid_.velocity),
+            c.read_write(fluid_.density),  c.write(fluid_.pressure),
+            c.read(fluid_.density_change_rate), c.read(fluid_.mass),
+            eos_,                          NeighborRecordWriter<T, D>::make(c, fluid_)};
   }
   Index size() const { return fluid_.size(); }
 
@@ -65,39 +78,47 @@ class PressureRelaxation : public InteractionDynamics<PressureRelaxation<T, D>> 
  public:
   PressureRelaxation(FluidVariables<T, D>& fluid, WallVariables<T, D>& wall, InnerRelation<T, D>& inner,
                      ContactRelation<T, D>& contact, WendlandC2Kernel<T, D> kernel, AcousticRiemannSolver<T> riemann,
-                     T wall_volume)
+                     T wall_volume, WallFreeBox<T, D> wall_free)
       : fluid_(fluid), wall_(wall), inner_(inner), contact_(contact), kernel_(kernel), riemann_(riemann),
-        wall_volume_(wall_volume) {}
+        wall_volume_(wall_volume), wall_free_(wall_free) {}
 
   struct Kernel {
     NeighborSearch<T, D> inner, contact;
-    View<const Vec<T, D>> velocity, prior_acceleration, wall_normal;
-    View<const T> density, pressure, mass;
+    View<const PositionVolume<T, D>> position_volume;  // of the fluid neighbours
+    View<const VelocityPressure<T, D>> velocity_pressure;
+    View<const Vec<T, D>> prior_acceleration, wall_normal;
+    View<const T> density;
     View<Vec<T, D>> acceleration;
     WendlandC2Kernel<T, D> kernel;
     AcousticRiemannSolver<T> riemann;
     T wall_volume;
+    WallFreeBox<T, D> wall_free;  // no wall neighbour inside
 
     UNISPH_HOST_DEVICE void interaction(Index i, Real) const {
-      const Vec<T, D> v_i = velocity[i];
-      const T p_i = pressure[i];
+      const VelocityPressure<T, D> own = velocity_pressure[i];
+      const Vec<T, D> v_i = own.velocity;
+      const T p_i = own.pressure;
       const T rho_i = density[i];
       Vec<T, D> force{};  // sum of 2 p* dW V_j e_ij
       const PairKernelDerivative<T, D> derivative{kernel};  // dW/dr, cached in stored lists
-      inner.for_each_weighted_neighbor(i, derivative, [&](Index j, const NeighborPair<T, D>& pair, T dW) {
-        const Vec<T, D>& e = pair.direction();
-        const T jump = -dot(v_i - velocity[j], e);
-        const T weight = dW * mass[j] / density[j];
-        force += e * (riemann.twice_interface_pressure(p_i, pressure[j], jump) * weight);
-      });
-      const Vec<T, D> a0 = prior_acceleration[i];
-      contact.for_each_weighted_neighbor(i, derivative, [&](Index w, const NeighborPair<T, D>& pair, T dW) {
-        const Vec<T, D>& e = pair.direction();
-        const Vec<T, D> n = wall_normal[w];
-        const T p_w = wall_dummy_pressure(p_i, rho_i, a0, pair.r_ij);
-        const T jump = -T(2) * dot(v_i, n);
-        force += e * (riemann.twice_interface_pressure(p_i, p_w, jump) * dW * wall_volume);
-      });
+      for_each_neighbor_record(inner, position_volume, i, derivative,
+                               [&](Index j, const PositionVolume<T, D>& r_j, const NeighborPair<T, D>& pair, T dW) {
+                                 const VelocityPressureRead<T, D> s_j = velocity_pressure[j];
+                                 const Vec<T, D>& e = pair.direction();
+                                 const T jump = -dot(v_i - s_j.velocity, e);
+                                 const T weight = dW * r_j.volume;
+                                 force += e * (riemann.twice_interface_pressure(p_i, s_j.pressure, jump) * weight);
+                               });
+      if (contact.uses_stored_lists() || !wall_free.contains(position_volume[i].position)) {
+        const Vec<T, D> a0 = prior_acceleration[i];
+        contact.for_each_weighted_neighbor(i, derivative, [&](Index w, const NeighborPair<T, D>& pair, T dW) {
+          const Vec<T, D>& e = pair.direction();
+          const Vec<T, D> n = wall_normal[w];
+          const T p_w = wall_dummy_pressure(p_i, rho_i, a0, pair.r_ij);
+          const T jump = -T(2) * dot(v_i, n);
+          force += e * (riemann.twice_interface_pressure(p_i, p_w, jump) * dW * wall_volume);
+        });
+      }
       acceleration[i] = force * (-T(1) / rho_i);
     }
   };
@@ -105,9 +126,18 @@ class PressureRelaxation : public InteractionDynamics<PressureRelaxation<T, D>> 
 
   Kernel make_kernel(KernelContext& c) {
     const PairKernelDerivative<T, D> derivative{kernel_};
-    return {inner_.search(c, derivative), contact_.search(c, derivative), c.read(fluid_.velocity),
-            c.read(fluid_.prior_acceleration), c.read(wall_.normal), c.read(fluid_.density), c.read(fluid_.pressure),
-            c.read(fluid_.mass), c.write(fluid_.acceleration), kernel_, riemann_, wall_volume_};
+    return {inner_.search(c, derivative),
+            contact_.search(c, derivative),
+            c.read(fluid_.neighbor_position_volume),
+            c.read(fluid_.neighbor_velocity_pressure),
+            c.read(fluid_.prior_acceleration),
+            c.read(wall_.normal),
+            c.read(fluid_.density),
+            c.write(fluid_.acceleration),
+            kernel_,
+            riemann_,
+            wall_volume_,
+            wall_free_};
   }
   Index size() const { return fluid_.size(); }
 
@@ -119,6 +149,7 @@ class PressureRelaxation : public InteractionDynamics<PressureRelaxation<T, D>> 
   WendlandC2Kernel<T, D> kernel_;
   AcousticRiemannSolver<T> riemann_;
   T wall_volume_;
+  WallFreeBox<T, D> wall_free_;
 };
 
 template <class T, int D>
@@ -128,17 +159,28 @@ class VelocityUpdate : public UpdateDynamics<VelocityUpdate<T, D>> {
   struct Kernel {
     View<Vec<T, D>> position, velocity;
     View<const Vec<T, D>> acceleration, prior_acceleration;
+    View<const T> pressure, mass, density;
+    NeighborRecordWriter<T, D> records;  // x and v change here
     UNISPH_HOST_DEVICE void update(Index i, Real dt_real) const {
       const T dt = T(dt_real);
       const Vec<T, D> v = velocity[i] + (acceleration[i] + prior_acceleration[i]) * dt;
       velocity[i] = v;
-      position[i] += v * (T(0.5) * dt);
+      Vec<T, D> x = position[i];
+      x += v * (T(0.5) * dt);
+      position[i] = x;
+      records.store(i, x, v, pressure[i], mass[i], density[i]);
     }
   };
   static_assert(std::is_trivially_copyable_v<Kernel>, "Kernels are copied to the device byte for byte.");
   Kernel make_kernel(KernelContext& c) {
-    return {c.read_write(fluid_.position), c.read_write(fluid_.velocity), c.read(fluid_.acceleration),
-            c.read(fluid_.prior_acceleration)};
+    return {c.read_write(fluid_.position),
+            c.read_write(fluid_.velocity),
+            c.read(fluid_.acceleration),
+            c.read(fluid_.prior_acceleration),
+            c.read(fluid_.pressure),
+            c.read(fluid_.mass),
+            c.read(fluid_.density),
+            NeighborRecordWriter<T, D>::make(c, fluid_)};
   }
   Index size() const { return fluid_.size(); }
 

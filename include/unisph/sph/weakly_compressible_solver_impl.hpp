@@ -14,6 +14,7 @@
 #include "unisph/neighbor/particle_sorter.hpp"
 #include "unisph/sph/density_relaxation.hpp"
 #include "unisph/sph/density_summation.hpp"
+#include "unisph/sph/neighbor_records.hpp"
 #include "unisph/sph/fused_updates.hpp"
 #include "unisph/sph/observers.hpp"
 #include "unisph/sph/obstacle_particles.hpp"
@@ -22,6 +23,7 @@
 #include "unisph/sph/prior_acceleration.hpp"
 #include "unisph/sph/tank_particles.hpp"
 #include "unisph/sph/time_step.hpp"
+#include "unisph/sph/wall_free_box.hpp"
 #include "unisph/sph/weakly_compressible_solver.hpp"
 
 namespace unisph::sph {
@@ -99,13 +101,15 @@ struct WeaklyCompressibleSolver<T, D>::State {
         density_summation(fluid, inner, contact, kernel, T(c.dx), T(c.density)),
         prior_acceleration(fluid, inner, contact, kernel, gravity_of(c), T(c.viscosity), wall_volume),
         pressure_start(fluid, eos),
-        pressure_relaxation(fluid, wall, inner, contact, kernel, riemann, wall_volume),
+        wall_free(WallFreeBox<T, D>::of_tank(c.tank, particles.wall, double(kernel.cutoff()))),
+        pressure_relaxation(fluid, wall, inner, contact, kernel, riemann, wall_volume, wall_free),
         velocity_update(fluid),
-        density_relaxation(fluid, wall, inner, contact, kernel, riemann, wall_volume, c.continuity_dissipation),
+        density_relaxation(fluid, wall, inner, contact, kernel, riemann, wall_volume, c.continuity_dissipation, wall_free),
         density_update(fluid),
         max_speed(fluid),
         velocity_update_and_max_speed(velocity_update, max_speed),
         density_update_and_start(density_update, pressure_start),
+        refresh_records(fluid),
         front(fluid, 0, T(c.dx)),
         energy(fluid, gravity_of(c)),
         total_mass(fluid) {
@@ -164,6 +168,8 @@ struct WeaklyCompressibleSolver<T, D>::State {
     // With stored lists, dW/dr of each pair is cached with its geometry (the relaxations read it).
     inner.update(p, PairKernelDerivative<T, D>{kernel});
     contact.update(p, PairKernelDerivative<T, D>{kernel});
+    // After a sort or a restore the relaxations' neighbour records follow the new order.
+    refresh_records.exec(p);
     const CellListReport report = fluid_cells.report();
     if (report.out_of_box != 0 || report.non_finite != 0) diagnose("a fluid particle left the domain");
   }
@@ -460,6 +466,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
   DensitySummationFreeSurface<T, D> density_summation;
   PriorAcceleration<T, D> prior_acceleration;
   PressureRelaxationStart<T, D> pressure_start;
+  WallFreeBox<T, D> wall_free;  // of the tank: fluid particles there have no wall neighbour
   PressureRelaxation<T, D> pressure_relaxation;
   VelocityUpdate<T, D> velocity_update;
   DensityRelaxation<T, D> density_relaxation;
@@ -467,6 +474,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
   MaximumSpeed<T, D> max_speed;
   VelocityUpdateAndMaxSpeed<T, D> velocity_update_and_max_speed;
   DensityUpdateAndPressureStart<T, D> density_update_and_start;
+  RefreshNeighborRecords<T, D> refresh_records;
   FrontPosition<T, D> front;
   MechanicalEnergy<T, D> energy;
   TotalMass<T, D> total_mass;
