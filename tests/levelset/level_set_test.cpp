@@ -610,6 +610,86 @@ TYPED_TEST(LevelSetTest, KernelIntegralsNextToASphere) {
   EXPECT_LT(worst_gradient / largest_gradient, 2e-2);
 }
 
+// Next to an edge and a corner of a box (and, as a control of the reference, on a face): the
+// stored integrals at data points vs a midpoint sum over the kernel's support on a lattice 8
+// times finer than the data, counting the sub-samples outside the box exactly (the box's faces lie
+// on sub-sample cell boundaries, so the count has no cut-cell error; what remains is the midpoint
+// rule's, measured on the face).
+TYPED_TEST(LevelSetTest, KernelIntegralsNextToAnEdgeAndACorner) {
+  const BoxShape box{Vec3{{0.0, 0.0, 0.0}}, Vec3{{0.5, 0.5, 0.5}}};
+  const Real dx = Real(1) / 64;
+  MultiResolutionLevelSet<3> level_set(this->policy, box, box.centre - box.half, box.centre + box.half, dx, 2);
+  LevelSetLayer<3>& finest = level_set.finest();
+  const auto kernel = sph::WendlandC2Kernel<double, 3>::from_spacing(double(dx));
+  const double step = double(dx) / 8, cutoff = kernel.cutoff();
+  const int reach = int(std::ceil(cutoff / step));
+  const std::vector<std::uint64_t> cells = finest.mesh.package_cell.to_vector();
+  const std::vector<Real> weight = finest.kernel_weight.to_vector();
+  const std::vector<Vec3> gradient = finest.kernel_gradient.to_vector();
+  const auto outside = [](const Vec<double, 3>& y) {
+    return std::fabs(y[0]) > 0.5 || std::fabs(y[1]) > 0.5 || std::fabs(y[2]) > 0.5;
+  };
+  // 0: face x = 0.5 (|y|, |z| < 0.25), 1: edge x = y = 0.5 (one layer of z near 0.1), 2: corner.
+  double worst_weight[3] = {}, worst_gradient[3] = {}, largest_gradient[3] = {};
+  int count[3] = {};
+  const double d = double(dx), e = 0.5;
+  for (Index p = far_field_packages; p < finest.packages(); ++p)
+    for (int l = 0; l < package_points<3>; ++l) {
+      const Vec3 xr = finest.grid().data_position(finest.grid().coordinates(cells[p]), l);
+      const Vec<double, 3> x{{double(xr[0]), double(xr[1]), double(xr[2])}};
+      int kind = -1;
+      if (std::fabs(x[0] - e) < 2.5 * d && std::fabs(x[1]) < 0.25 && std::fabs(x[2] - 0.1) < 0.5 * d &&
+          std::fabs(x[1] + 0.1) < 0.5 * d)
+        kind = 0;
+      else if (std::fabs(x[0] - e) < 2.5 * d && std::fabs(x[1] - e) < 2.5 * d && std::fabs(x[2] - 0.1) < 0.5 * d)
+        kind = 1;
+      else if (norm(x - Vec<double, 3>::constant(e)) < 2.5 * d)
+        kind = 2;
+      if (kind < 0) continue;
+      double w = 0;
+      Vec<double, 3> g{};
+      for (int a = -reach; a <= reach; ++a)
+        for (int b = -reach; b <= reach; ++b)
+          for (int c = -reach; c <= reach; ++c) {
+            const Vec<double, 3> o{{(a + 0.5) * step, (b + 0.5) * step, (c + 0.5) * step}};
+            const double r = norm(o);
+            if (r >= cutoff || !outside(x - o)) continue;
+            w += kernel.value(r);
+            g += o * (kernel.derivative(r) / r);
+          }
+      const double volume = step * step * step;
+      w *= volume;
+      g *= volume;
+      const Index i = p * package_points<3> + l;
+      worst_weight[kind] = std::max(worst_weight[kind], std::fabs(double(weight[i]) - w));
+      const Vec3 got = gradient[i];
+      worst_gradient[kind] = std::max(
+          worst_gradient[kind], norm(Vec<double, 3>{{double(got[0]) - g[0], double(got[1]) - g[1], double(got[2]) - g[2]}}));
+      largest_gradient[kind] = std::max(largest_gradient[kind], norm(g));
+      ++count[kind];
+    }
+  const char* names[3] = {"face", "edge", "corner"};
+  for (int kind = 0; kind < 3; ++kind)
+    std::printf("kernel integrals at %d data points next to a box's %s (h = 1.3 dx, reference on a lattice dx / 8): "
+                "weight error %.2e, gradient error %.2e of %.3g (relative %.2e)\n",
+                count[kind], names[kind], worst_weight[kind], worst_gradient[kind], largest_gradient[kind],
+                worst_gradient[kind] / largest_gradient[kind]);
+  EXPECT_EQ(count[0], 4);
+  EXPECT_EQ(count[1], 16);
+  EXPECT_GT(count[2], 40);
+  // The face checks the reference (measured 2.9e-4 in the weight, 6.9e-4 of the largest gradient;
+  // 7.3e-5 and 1.7e-4 with a lattice dx / 16, where edge and corner gave the same figures).
+  // Next to the edge and the corner the sub-cell correction does not reach the 1e-3
+  // (measured: weight 3.0e-2 and 5.9e-2, gradient 7.8e-2 and 1.0e-1 of the largest;
+  // docs/levelset.md, "Not done"): the tolerances hold the measured errors, not the target.
+  EXPECT_LT(worst_weight[0], 1e-3);
+  EXPECT_LT(worst_gradient[0] / largest_gradient[0], 1e-3);
+  EXPECT_LT(worst_weight[1], 4e-2);
+  EXPECT_LT(worst_gradient[1] / largest_gradient[1], 1e-1);
+  EXPECT_LT(worst_weight[2], 7e-2);
+  EXPECT_LT(worst_gradient[2] / largest_gradient[2], 1.25e-1);
+}
+
 TYPED_TEST(LevelSetTest, TwoDimensionalCircleAndPolygons) {
   const SphereShape<2> circle{Vec<Real, 2>{{0.1, 0.2}}, Real(0.9)};
   MultiResolutionLevelSet<2> a(this->policy, circle, Vec<Real, 2>{{-0.8, -0.7}}, Vec<Real, 2>{{1.0, 1.1}}, Real(1) / 64, 3);
@@ -716,17 +796,20 @@ TYPED_TEST(LevelSetTest, CleaningRemovesAThinFin) {
       }
     }
   std::printf("fin: %zu removed data points; %zu points farther than 2 dx: |phi - cube| <= %.3g dx (unchanged ones "
-              "%.3g dx); %zu over the fin (%zu inside before): |phi - cube| <= %.3g dx\n",
+              "%.3g dx); %zu over the fin (%zu inside before): |phi - cube| <= %.3g dx; cleaning %.3f s (%zu data points "
+              "in the finest layer)\n",
               std::size_t(cleaned.removed_data_points()), std::size_t(away), double(worst_away / dx),
-              double(worst_unchanged / dx), std::size_t(on_fin), std::size_t(fin_inside_before), double(worst_fin / dx));
+              double(worst_unchanged / dx), std::size_t(on_fin), std::size_t(fin_inside_before), double(worst_fin / dx),
+              cleaned.stage_seconds().cleaning, std::size_t(layer.packages() * package_points<3>));
   EXPECT_GT(away, 10000u);
   EXPECT_GT(on_fin, 100u);
-  // Points that did not measure the fin keep phi; those that did (beside its ends, where the
-  // distance to the fin was shorter than to the face) come closer to the cube's distance, to
-  // within 0.61 dx (measured: the disks that re-distance them overhang the cube's top edges);
-  // over the fin phi is the distance to the face.
+  // Points that did not measure the fin keep phi; those that did (beside its sides and ends,
+  // where the distance to the fin was shorter than to the face) get the cube's distance: the
+  // issue's bound of 0.1 dx, measured 0.0163 dx (points whose phi was shorter than the cube's
+  // distance by less than the write-back's slack of dx/32 keep it; 0.61 dx with the tangent
+  // disks before, which overhung the cube's top edges); over the fin phi is the distance to the face.
   EXPECT_LT(worst_unchanged, Real(0.1) * dx);
-  EXPECT_LT(worst_away, Real(0.7) * dx);
+  EXPECT_LT(worst_away, Real(0.1) * dx);
   EXPECT_LT(worst_fin, Real(0.1) * dx);
 
   MultiResolutionLevelSet<3> reference = build(seq, true);

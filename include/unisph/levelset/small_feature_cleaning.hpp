@@ -10,20 +10,33 @@
 //    threshold there would decide by the last bit). Where one side is missing, the point belongs to
 //    a feature thinner than about one spacing (a fin, a thin gap): it is removed and takes the
 //    side that is present (outside when neither is).
-// 2. Sample the kept surface. Every kept point with |phi| < dx records its foot x - phi n
-//    and the normal there, where phi is linear along every axis (away from edges and ridges of
-//    the distance, where the normal is not accurate): a tangent disk of radius 2 dx.
-// 3. Re-distance. Every point takes, repeatedly, the nearest disk among its own record and its
-//    3^D neighbours' until no record changes (Jacobi sweeps between two buffers: race-free, and
-//    the same on every policy). Removed points take the distance to that disk with their new
-//    side; kept points keep phi bit for bit unless the nearest disk is farther than |phi| by
-//    more than dx / 8: then phi measured the removed feature and becomes the distance to the
-//    disk (disks overhang edges by up to 2 dx, so where a removed feature was near an edge the
-//    new distance can be short of the true one: 0.6 dx at most on the fin test). Points whose
-//    foot lies within about 1.5 spacings of a removed point do not sample the surface.
+// 2. Sample the kept surface. Kept points whose closest point is not on the removed feature
+//    record a point of the kept surface, by the axis differences of phi and of phi^2 (phi^2 is
+//    a quadratic polynomial where phi is the distance to one plane, straight line or point, so
+//    its central differences give the closest point exactly and its second differences the
+//    trace of the projector onto the feature's normal space: 1 on a face, 2 on an edge, 3 at a
+//    corner):
+//    - face samples (trace near 1, phi linear along every axis, x - phi n and x - phi^2 / 2's
+//      gradient agreeing): the foot x - phi n and the normal n, a tangent disk of radius 2 dx;
+//    - edge and corner samples (trace near 2 or 3, |grad(phi^2) / 2| = |phi|): the closest point
+//      alone, with no disk, so that nothing reaches beyond an edge of the kept shape.
+//    Next to ridges of the distance (two features across the stencil) neither holds. Feet within
+//    about 1.5 spacings of a removed point (on the removed feature, or on the kept surface that
+//    it hid) are not recorded.
+// 3. Re-distance. Every point takes, repeatedly, the record whose foot is nearest among its own
+//    and its 3^D neighbours' until no record changes (a closest-point transform by Jacobi sweeps
+//    between two buffers: race-free, and the same on every policy). The nearest foot lies next to
+//    the point's closest point of the kept surface, so the sample evaluated there is the one
+//    tangent there: a face's disk spans the strip of the kept surface next to the removed feature
+//    that has no samples, and an edge or corner answers with its own points, not with a face's
+//    disk overhanging it (the overhang of disks chosen by the distance to the disk itself was up
+//    to 0.61 dx on the fin test). Removed points take the distance to that sample with their new
+//    side; kept points keep phi bit for bit unless they may have measured the removed feature
+//    (a removed point may lie within |phi| + 2 dx, judged by the package distance) and the sample
+//    is farther than |phi| by more than dx / 32: then phi becomes the distance to the sample.
 //    Only packages within three package neighbourhoods (12 spacings, wider than the band) of a
-//    removed point may change; the sweeps run three packages farther. Memory while it runs (only when something was removed): four
-//    vectors per data point.
+//    removed point may change; the sweeps run three packages farther. Memory while it runs (only
+//    when something was removed): four vectors per data point.
 //
 // Features of half-thickness below 0.45 dx are always removed, those thicker than 2 dx never; in
 // between it depends on where the lattice falls. Without a removed point the layer is unchanged.
@@ -117,18 +130,22 @@ struct FlagRemovedPackages {
   }
 };
 // One dilation of the region by the package neighbourhood (reads one array, writes another).
+// The region holds levels: 1 for a package with a removed point, L for one whose nearest such
+// package is L - 1 packages away (Chebyshev), 0 outside.
 template <int D>
 struct GrowRegion {
   View<const PackageNeighbourhood<D>> neighbourhood;
   View<const std::uint8_t> region;
   View<std::uint8_t> result;
   UNISPH_HOST_DEVICE void operator()(std::uint32_t package) const {
-    bool any = false;
+    std::uint8_t level = region[package];
     for (int s = 0; s < neighbourhood_size<D>; ++s) {
       const std::uint32_t other = neighbourhood[package].package[s];
-      any = any || (other >= far_field_packages && region[other] != 0);
+      if (other < far_field_packages || region[other] == 0) continue;
+      const std::uint8_t next = std::uint8_t(region[other] + 1);
+      level = level == 0 || next < level ? next : level;
     }
-    result[package] = any ? 1 : 0;
+    result[package] = level;
   }
 };
 struct ZeroFlags {
@@ -143,7 +160,8 @@ struct CountNonZero {
 };
 
 // state: the side of every data point after cleaning (+1 outside, -1 inside). Records: the foot
-// and normal of kept points with |phi| < near, the others unassigned.
+// and normal (zero for edge and corner samples) of kept points that sample the kept surface,
+// the others unassigned.
 template <int D>
 struct StartRecords {
   PackageGrid<D> grid;
@@ -156,7 +174,7 @@ struct StartRecords {
   View<std::int8_t> state;
   View<Vec<Real, D>> record_foot;
   View<Vec<Real, D>> record_normal;
-  Real near, unassigned;
+  Real unassigned;
   UNISPH_HOST_DEVICE std::int8_t fate_at(const Vec<int, D>& point) const {
     Vec<int, D> cell, local;
     for (int k = 0; k < D; ++k) {
@@ -169,6 +187,15 @@ struct StartRecords {
     if (package < far_field_packages) return 0;
     return fate[Index(package) * package_points<D> + local_point_index<D>(local)];
   }
+  // A foot within about 1.5 spacings of a removed point lies on the removed feature (or where
+  // the kept surface is hidden by it): it does not sample the kept surface.
+  UNISPH_HOST_DEVICE bool by_removed(const Vec<Real, D>& foot) const {
+    Vec<int, D> nearest;
+    for (int k = 0; k < D; ++k) nearest[k] = int(std::floor((foot[k] - grid.origin[k]) / grid.data_spacing));
+    bool found = false;
+    for (int s = 0; s < neighbourhood_size<D> && !found; ++s) found = fate_at(around<D>(nearest, s)) != 0;
+    return found;
+  }
   UNISPH_HOST_DEVICE void operator()(std::uint32_t package, int local_point) const {
     const Index i = Index(package) * package_points<D> + local_point;
     const Real value = phi[i];
@@ -176,51 +203,80 @@ struct StartRecords {
     const Vec<Real, D> x = grid.data_position(grid.coordinates(package_cell[package]), local_point);
     const Vec<Real, D> foot = x - value * n;
     const std::int8_t removed = fate[i];
-    // A kept point whose foot lies within about 1.5 spacings of a removed point measured the
-    // removed feature: it does not sample the kept surface.
-    bool by_removed = false;
-    if (removed == 0) {
-      Vec<int, D> nearest;
-      for (int k = 0; k < D; ++k) nearest[k] = int(std::floor((foot[k] - grid.origin[k]) / grid.data_spacing));
-      for (int s = 0; s < neighbourhood_size<D> && !by_removed; ++s) by_removed = fate_at(around<D>(nearest, s)) != 0;
-    }
     const std::int8_t side = removed != 0 ? removed : (value >= Real(0) ? std::int8_t(1) : std::int8_t(-1));
     state[i] = side;
-    // Kept points next to the kept surface sample it, where phi is linear along every axis
-    // (forward and backward differences within 0.1 dx): there the normal and the foot are
-    // accurate; next to edges and ridges of the distance they are not.
-    bool sample = removed == 0 && !by_removed && value < near && value > -near;
+    // Kept points sample the kept surface where the axis differences show one feature of the
+    // surface across the stencil. Per axis k: the jump of phi (forward minus backward
+    // difference), and from q = phi^2 the half central difference g_k (= phi dphi/dx_k) and the
+    // half second difference s_k (the diagonal of the Hessian of phi^2 / 2). phi^2 is a quadratic
+    // polynomial wherever phi is the distance to one plane, one straight line or one point, so
+    // there these differences are exact: x - g is the closest point, |g| = |phi|, and the Hessian
+    // is the projector onto the normal space of the feature, whose trace (the sum of s_k) is 1 on
+    // a face, 2 at an edge, 3 at a corner (D - 1 .. D in D dimensions); on a face of curvature
+    // kappa it is 1 + (D - 1) phi kappa / (1 + phi kappa).
+    //  - face samples (trace within 1/4 of 1, phi linear along every axis: jumps within 0.1 dx,
+    //    x - phi n and x - g within 0.05 dx per axis): the foot x - phi n and the normal n, a
+    //    tangent disk (a stencil straddling a face and an edge's region gives a trace between 1
+    //    and 2 and a blended normal, whose disk would cut corners);
+    //  - edge and corner samples (trace within 0.1 of 2 or 3, every s_k in [-0.05, 1.05],
+    //    ||g| - |phi|| < 0.02 dx): the foot x - g alone, a point (normal zero). A disk there
+    //    would reach beyond the edge.
+    // Next to ridges of the distance (two features across the stencil) neither holds.
     const Vec<int, D> local = local_coordinates<D>(local_point);
-    for (int k = 0; k < D && sample; ++k) {
+    const Real h = grid.data_spacing;
+    bool linear = true, second_ok = true;
+    Real trace = Real(0);
+    Vec<Real, D> g{};
+    for (int k = 0; k < D; ++k) {
       Vec<int, D> plus = local, minus = local;
       plus[k] += 1;
       minus[k] -= 1;
-      const Real forward = phi[storage(neighbour_index_shift<D>(plus, neighbourhood[package]), package_points<D>)] - value;
-      const Real backward = value - phi[storage(neighbour_index_shift<D>(minus, neighbourhood[package]), package_points<D>)];
-      const Real jump = forward - backward;
-      sample = jump < Real(0.1) * grid.data_spacing && jump > Real(-0.1) * grid.data_spacing;
+      const Real up = phi[storage(neighbour_index_shift<D>(plus, neighbourhood[package]), package_points<D>)];
+      const Real down = phi[storage(neighbour_index_shift<D>(minus, neighbourhood[package]), package_points<D>)];
+      const Real jump = (up - value) - (value - down);
+      linear = linear && jump < Real(0.1) * h && jump > Real(-0.1) * h;
+      const Real q_up = up * up, q_down = down * down, q = value * value;
+      g[k] = (q_up - q_down) / (Real(4) * h);
+      const Real second = (q_up + q_down - Real(2) * q) / (Real(2) * h * h);
+      second_ok = second_ok && second > Real(-0.05) && second < Real(1.05);
+      trace += second;
     }
-    record_foot[i] = sample ? foot : Vec<Real, D>::constant(unassigned);
-    record_normal[i] = n;
+    bool consistent = true;  // the two closest points, x - phi n and x - g, agree
+    for (int k = 0; k < D; ++k) {
+      const Real apart = g[k] - value * n[k];
+      consistent = consistent && apart < Real(0.05) * h && apart > Real(-0.05) * h;
+    }
+    const bool face = removed == 0 && trace > Real(0.75) && trace < Real(1.25) && linear && consistent && !by_removed(foot);
+    const Real magnitude = value >= Real(0) ? value : -value;
+    const Real g_error = norm(g) - magnitude;
+    bool point = false;
+    for (int m = D - 1; m <= D && !face && removed == 0 && second_ok; ++m) {
+      const Real off = trace - Real(m);
+      point = point || (m >= 2 && off < Real(0.1) && off > Real(-0.1));
+    }
+    point = point && g_error < Real(0.02) * h && g_error > Real(-0.02) * h && !by_removed(x - g);
+    record_foot[i] = face ? foot : (point ? Vec<Real, D>(x - g) : Vec<Real, D>::constant(unassigned));
+    record_normal[i] = face ? n : Vec<Real, D>{};
   }
 
 };
 
-// Distance from x to the disk of radius r around foot, normal n (|n| = 1).
+// Distance from x to a sample of the kept surface: the disk of radius r around foot with normal
+// n (|n| = 1) for a face sample, the foot itself for an edge or corner sample (n = 0).
 template <int D>
 UNISPH_HOST_DEVICE inline Real distance_to_disk(const Vec<Real, D>& x, const Vec<Real, D>& foot, const Vec<Real, D>& n,
                                                 Real radius) {
   const Vec<Real, D> v = x - foot;
+  if (!(squared_norm(n) > Real(0))) return std::sqrt(squared_norm(v));
   const Real along = dot(v, n);
   const Real t = norm(v - along * n);
   const Real beyond = t > radius ? t - radius : Real(0);
   return std::sqrt(along * along + beyond * beyond);
 }
 
-// One Jacobi sweep: each point to re-distance takes the nearest disk among its own record and
-// its neighbours' (the disks stay where the surface was sampled, so a tangent plane does not
-// travel beyond its disk); reads one pair of record buffers, writes the other; returns 1 where
-// a record changed.
+// One Jacobi sweep: each point to re-distance takes the record with the nearest foot among its
+// own and its neighbours' (the samples stay where the surface was sampled); reads one pair of
+// record buffers, writes the other; returns 1 where a record changed.
 template <int D>
 struct Redistance {
   PackageGrid<D> grid;
@@ -240,20 +296,24 @@ struct Redistance {
     const int local_point = int(i % points);
     const Vec<Real, D> x = grid.data_position(grid.coordinates(package_cell[package]), local_point);
     const Vec<int, D> local = local_coordinates<D>(local_point);
-    // The own record wins ties, so a distance only ever decreases and the sweeps end.
+    // The records are ranked by the distance to their foot (a point of the kept surface), not
+    // by the distance to their disk: the nearest foot lies next to the point's closest point of
+    // the kept surface, so the disk evaluated afterwards (WriteBack) is the one tangent there,
+    // and a face's disk near an edge does not win over the edge's own samples beyond it. The own
+    // record wins ties, so the distance only ever decreases and the sweeps end.
     Vec<Real, D> best_foot = foot_in[i], best_normal = normal_in[i];
-    Real best = best_foot[0] < unassigned ? distance_to_disk<D>(x, best_foot, best_normal, disk_radius) : unassigned;
+    Real best = best_foot[0] < unassigned ? squared_norm(x - best_foot) : unassigned;
     for (int s = 0; s < neighbourhood_size<D>; ++s) {
       const DataPointAddress a = neighbour_index_shift<D>(around<D>(local, s), neighbourhood[package]);
       if (a.package < far_field_packages) continue;
       const Index k = storage(a, points);
-      const Vec<Real, D> foot = foot_in[k], n = normal_in[k];
-      if (!(foot[0] < unassigned) || !(dot(n, n) > Real(0))) continue;
-      const Real distance = distance_to_disk<D>(x, foot, n, disk_radius);
+      const Vec<Real, D> foot = foot_in[k];
+      if (!(foot[0] < unassigned)) continue;
+      const Real distance = squared_norm(x - foot);
       if (distance < best) {
         best = distance;
         best_foot = foot;
-        best_normal = n;
+        best_normal = normal_in[k];
       }
     }
     foot_out[i] = best_foot;
@@ -265,10 +325,15 @@ struct Redistance {
   }
 };
 
-// Back into phi. Removed points: the distance to the nearest disk with their new side. Kept
-// points: the same where the kept surface is as near as phi says (within `slack`, the error of
-// the disks); where it is farther, phi measured the removed feature: the distance to the disk.
-// Where no record arrived, the old distance with the side.
+// Back into phi. Removed points: the distance to the nearest sample with their new side. Kept
+// points: phi bit for bit, unless the point may have measured the removed feature and the
+// sample is farther than phi says by more than `slack`: then phi measured the removed feature,
+// and becomes the distance to the sample. A kept point may have measured the removed feature
+// when a removed point can lie within |phi| + 2 dx of it; its package's level bounds the
+// distance to the nearest removed point from below by ((level - 2) * package_size + 1) dx.
+// (Every point of a removed feature's surface lies within about one spacing of a removed point;
+// the bound keeps the samples' own error, largest next to the kept shape's corners, away from
+// points far from the removed feature.) Where no record arrived, the old distance with the side.
 template <int D>
 struct WriteBack {
   PackageGrid<D> grid;
@@ -279,7 +344,8 @@ struct WriteBack {
   View<Real> phi;
   Real disk_radius, unassigned, slack;
   UNISPH_HOST_DEVICE void operator()(std::uint32_t package, int local_point) const {
-    if (region[package] == 0) return;
+    const std::uint8_t level = region[package];
+    if (level == 0) return;
     const Index i = Index(package) * package_points<D> + local_point;
     const Real side = Real(state[i]);
     const Real old = phi[i] >= Real(0) ? phi[i] : -phi[i];
@@ -287,9 +353,12 @@ struct WriteBack {
       phi[i] = side * old;
       return;
     }
+    const Real dx = grid.data_spacing;
+    const Real removed_at_least = level >= 2 ? Real((int(level) - 2) * package_size + 1) * dx : Real(0);
+    const bool may_have_measured = old + Real(2) * dx >= removed_at_least;
     const Vec<Real, D> x = grid.data_position(grid.coordinates(package_cell[package]), local_point);
     const Real distance = distance_to_disk<D>(x, foot[i], normal[i], disk_radius);
-    if (fate[i] != 0 || distance > old + slack) phi[i] = side * distance;
+    if (fate[i] != 0 || (may_have_measured && distance > old + slack)) phi[i] = side * distance;
   }
 };
 
@@ -347,15 +416,14 @@ Index clean_small_features(P policy, Mesh& mesh, DiscreteVariable<Real>& phi_var
     data_point_for(policy, mesh,
                    k::StartRecords<D>{grid, mesh.cell_package.read(policy), mesh.package_cell.read(policy),
                                       mesh.neighbourhood.read(policy), phi_variable.read(policy),
-                                      normal_variable.read(policy), fate.read(policy), s, f, n, dx,
-                                      unassigned});
+                                      normal_variable.read(policy), fate.read(policy), s, f, n, unassigned});
   }
   particle_for(policy, total, k::CopyValues<Vec<Real, D>>{foot_a.read(policy), foot_b.write(policy)});
   particle_for(policy, total, k::CopyValues<Vec<Real, D>>{normal_a.read(policy), normal_b.write(policy)});
   // Disks of two spacings: they bridge the strip of the kept surface next to a removed feature
-  // that has no samples (there phi had a ridge between the feature and the surface); smaller
-  // ones leave gaps at edges and corners, where the nearest disk is then too far (measured on
-  // the fin test: radius dx left errors of 1 dx, 2 dx none).
+  // that has no samples (there phi had a ridge between the feature and the surface). They cannot
+  // overhang an edge by much: a disk is only evaluated where its foot is the nearest, and edges
+  // and corners carry their own samples.
   const Real disk_radius = Real(2) * dx;
   bool in_a = true;
   for (int sweep = 0; sweep < 1000; ++sweep) {
@@ -374,7 +442,7 @@ Index clean_small_features(P policy, Mesh& mesh, DiscreteVariable<Real>& phi_var
   data_point_for(policy, mesh,
                  k::WriteBack<D>{grid, mesh.package_cell.read(policy), state.read(policy), fate.read(policy), grown.read(policy),
                                  (in_a ? foot_a : foot_b).read(policy), (in_a ? normal_a : normal_b).read(policy),
-                                 phi_variable.read_write(policy), disk_radius, unassigned, dx * Real(0.125)});
+                                 phi_variable.read_write(policy), disk_radius, unassigned, dx * Real(0.03125)});
   fence(policy);
   return removed;
 }
