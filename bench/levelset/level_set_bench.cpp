@@ -17,7 +17,8 @@
 // inside its volume) or the pseudonormal of the nearest feature (cheaper; wrong next to those
 // walls).
 //
-// The mesh is read and its BVH built once, outside the timings; the GPU is warmed up by one
+// Every line also gives the process's CPU time over the build (all threads; on a shared machine a
+// fairer figure than the wall time). The mesh is read and its BVH built once, outside the timings; the GPU is warmed up by one
 // small build first. The data folder is the source tree's tests/data, or $UNISPH_TEST_DATA_DIR.
 #include <algorithm>
 #include <array>
@@ -25,6 +26,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <string>
 #include <vector>
 
@@ -38,6 +40,14 @@
 namespace {
 using namespace unisph;
 using Vec3 = Vec<Real, 3>;
+
+// CPU time of the whole process (every thread), in seconds: on a shared machine a fairer figure
+// than the wall time.
+double process_cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
 
 std::string data_file(const std::string& relative) {
   const char* dir = std::getenv("UNISPH_TEST_DATA_DIR");
@@ -69,9 +79,11 @@ void run(P policy, TriangleMeshSearch& search, const Vec3& lo, const Vec3& hi, i
   const Real dx = longest / Real(n);
   for (int r = 0; r < options.repeat; ++r) {
     const auto start = std::chrono::steady_clock::now();
+    const double cpu_start = process_cpu_seconds();
     MultiResolutionLevelSet<3> level_set = build(policy, search, lo, hi, dx, options);
     fence(policy);
     const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double cpu = process_cpu_seconds() - cpu_start;
     const LevelSetStageTimes& t = level_set.stage_seconds();
     LevelSetLayer<3>& finest = level_set.finest();
     // Our finest layer in float per data point with |phi| < 3 dx (OpenVDB's half width).
@@ -86,12 +98,12 @@ void run(P policy, TriangleMeshSearch& search, const Vec3& lo, const Vec3& hi, i
     std::printf(
         "%-6s N=%-5d levels=%d finest: packages=%zu data_points=%zu bytes/point=%.2f points(|phi|<3dx)=%zu "
         "float bytes/point(|phi|<3dx)=%.2f removed=%zu | tagging %.3f s, packages %.3f s, distance %.3f s, normals "
-        "%.3f s, cleaning %.3f s, kernel integrals %.3f s, total %.3f s; signed distance (tagging+packages+distance) "
-        "%.3f s (%s, %s sign)\n",
+        "%.3f s, cleaning %.3f s, kernel integrals %.3f s, total %.3f s (CPU time %.3f s); signed distance "
+        "(tagging+packages+distance) %.3f s (%s, %s sign)\n",
         std::string(P::name).c_str(), n, level_set.levels(), finest.data_packages(),
         finest.data_packages() * package_points<3>, finest.bytes_per_data_point(), in_band, float_bytes / double(in_band),
         std::size_t(level_set.removed_data_points()), t.tagging, t.packages, t.distance, t.normals, t.cleaning,
-        t.kernel_integrals, total, t.tagging + t.packages + t.distance, sizeof(Real) == 4 ? "float" : "double",
+        t.kernel_integrals, total, cpu, t.tagging + t.packages + t.distance, sizeof(Real) == 4 ? "float" : "double",
         options.winding ? "winding" : "pseudonormal");
     std::fflush(stdout);
   }
@@ -137,10 +149,12 @@ int main(int argc, char** argv) {
     Real longest = 0;
     for (int k = 0; k < 3; ++k) longest = std::max(longest, hi[k] - lo[k]);
     for (int n : sizes) {
+      const double cpu_start = process_cpu_seconds();
       const auto r = bench::openvdb_mesh_to_level_set(vertices, triangles, float(longest / Real(n)), 3.0f);
-      std::printf("openvdb N=%-5d meshToLevelSet (float, half width 3 voxels) %.3f s, active voxels %zu, memUsage %zu "
-                  "bytes = %.2f bytes/active voxel\n",
-                  n, r.seconds, r.active_voxels, r.memory_bytes, double(r.memory_bytes) / double(r.active_voxels));
+      const double cpu = process_cpu_seconds() - cpu_start;
+      std::printf("openvdb N=%-5d meshToLevelSet (float, half width 3 voxels) %.3f s (CPU time %.3f s), active voxels "
+                  "%zu, memUsage %zu bytes = %.2f bytes/active voxel\n",
+                  n, r.seconds, cpu, r.active_voxels, r.memory_bytes, double(r.memory_bytes) / double(r.active_voxels));
       std::fflush(stdout);
     }
 #else

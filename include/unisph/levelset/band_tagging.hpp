@@ -14,20 +14,28 @@
 #include <cstdint>
 
 #include "unisph/core/config.hpp"
+#include "unisph/geometry/triangle_batch_nearest.hpp"
 #include "unisph/grid/cell_tag.hpp"
 #include "unisph/grid/package_grid.hpp"
 #include "unisph/memory/view.hpp"
+#include "unisph/levelset/shape_search.hpp"
 #include "unisph/neighbor/uncontracted_arithmetic.hpp"
 
 namespace unisph {
 
-template <int D, class Shape>
-UNISPH_HOST_DEVICE inline CellTag decide_cell(const Shape& shape, const PackageGrid<D>& grid, const Vec<int, D>& cell) {
-  const Vec<Real, D> centre = grid.cell_centre(cell);
-  const auto nearest = shape.nearest(centre);
+// The decision from the nearest feature of the centre (what shape.nearest(centre) returns).
+template <int D, class Shape, class Nearest>
+UNISPH_HOST_DEVICE inline CellTag decide_cell_from(const Shape& shape, const PackageGrid<D>& grid,
+                                                   const Vec<Real, D>& centre, const Nearest& nearest) {
   const Real size = grid.cell_size();
   if (nearest.squared_distance < uncontracted::mul(size, size)) return CellTag::core;
   return shape.sign(centre, nearest) > 0 ? CellTag::outside : CellTag::inside;
+}
+
+template <int D, class Shape>
+UNISPH_HOST_DEVICE inline CellTag decide_cell(const Shape& shape, const PackageGrid<D>& grid, const Vec<int, D>& cell) {
+  const Vec<Real, D> centre = grid.cell_centre(cell);
+  return decide_cell_from<D>(shape, grid, centre, shape.nearest(centre));
 }
 
 template <int D, class Shape>
@@ -53,17 +61,56 @@ struct TagUnderCoarseBand {
   }
 };
 
+// The same decisions as TagUnderCoarseBand, one coarse cell at a time: its 2^3 children share one
+// walk of the triangle mesh's BVH (triangle_batch_nearest.hpp), which finds at every child centre
+// the nearest triangle that shape.nearest would (so the same tags, bit for bit). For shapes that
+// search a triangle mesh (triangle_mesh_of), on the host policies.
+template <class Shape>
+struct TagChildrenOfCoarseCells {
+  Shape shape;
+  PackageGrid<3> grid, coarse_grid;
+  View<const CellTag> coarse_tags;
+  View<CellTag> tags;
+  UNISPH_HOST_DEVICE void operator()(Index c) const {
+    const Vec<int, 3> parent = coarse_grid.coordinates(c);
+    const CellTag parent_tag = coarse_tags[c];
+    Vec<int, 3> child[8];
+    for (int j = 0; j < 8; ++j)
+      for (int k = 0; k < 3; ++k) child[j][k] = 2 * parent[k] + ((j >> k) & 1);
+    if (!has_package(parent_tag)) {
+      for (int j = 0; j < 8; ++j) tags[grid.linear(child[j])] = parent_tag;
+      return;
+    }
+    Vec<Real, 3> centre[8];
+    for (int j = 0; j < 8; ++j) centre[j] = grid.cell_centre(child[j]);
+    NearestTriangle nearest[8];
+    batch_nearest<8>(triangle_mesh_of(shape), coarse_grid.cell_centre(parent), centre, nearest);
+    for (int j = 0; j < 8; ++j) tags[grid.linear(child[j])] = decide_cell_from<3>(shape, grid, centre[j], nearest[j]);
+  }
+};
+
 // Non-core cells next to a core cell become inner (reads one tag array, writes another).
+// On a finer layer (coarse_tags not empty) only cells under a coarse cell with a package can be:
+// a core cell's parent is core (its centre lies within 1.87 fine = 0.93 coarse cell sizes of
+// the surface), so a neighbour of a core cell has a parent that is core or next to a core cell;
+// the others are not looked at.
 template <int D>
 struct TagInner {
   PackageGrid<D> grid;
   View<const CellTag> tags;
   View<CellTag> result;
+  PackageGrid<D> coarse_grid{};
+  View<const CellTag> coarse_tags{};
   UNISPH_HOST_DEVICE void operator()(Index c) const {
     const CellTag tag = tags[c];
     result[c] = tag;
     if (tag == CellTag::core) return;
     const Vec<int, D> cell = grid.coordinates(c);
+    if (coarse_tags.size() > 0) {
+      Vec<int, D> parent;
+      for (int k = 0; k < D; ++k) parent[k] = cell[k] / 2;
+      if (!has_package(coarse_tags[coarse_grid.linear(parent)])) return;
+    }
     for (int s = 0; s < neighbourhood_size<D>; ++s) {
       Vec<int, D> other = cell;
       int rest = s;

@@ -10,11 +10,13 @@
 #include <cstdint>
 
 #include "unisph/exec/algorithms.hpp"
+#include "unisph/geometry/triangle_batch_nearest.hpp"
 #include "unisph/grid/package_for.hpp"
 #include "unisph/grid/package_mesh.hpp"
 #include "unisph/levelset/kernel_integrals.hpp"
 #include "unisph/levelset/level_set_layer_view.hpp"
 #include "unisph/levelset/regularized_gradient.hpp"
+#include "unisph/levelset/shape_search.hpp"
 #include "unisph/memory/discrete_variable.hpp"
 
 namespace unisph {
@@ -62,6 +64,35 @@ struct SignedDistanceAtDataPoints {
     phi[Index(package) * package_points<D> + local_point] = outside ? distance : -distance;
   }
 };
+// The same, one package at a time, for shapes that search a triangle mesh (on the host policies):
+// the package's 64 data points share one walk of the BVH and a vectorised float filter of the
+// candidate triangles (triangle_batch_nearest.hpp), which gives every point the nearest triangle
+// that shape.nearest would; the sign and phi are then computed as above.
+template <class Shape>
+struct SignedDistanceInPackages {
+  Shape shape;
+  PackageGrid<3> grid;
+  View<const std::uint64_t> package_cell;
+  View<const PackageType> package_type;
+  View<const CellTag> cell_side;
+  View<Real> phi;
+  UNISPH_HOST_DEVICE void operator()(std::uint32_t package) const {
+    constexpr int n = package_points<3>;
+    const Index cell = package_cell[package];
+    const Vec<int, 3> coordinates = grid.coordinates(cell);
+    Vec<Real, 3> x[n];
+    for (int i = 0; i < n; ++i) x[i] = grid.data_position(coordinates, i);
+    NearestTriangle nearest[n];
+    batch_nearest<n>(triangle_mesh_of(shape), grid.cell_centre(coordinates), x, nearest);
+    const bool core = package_type[package] == PackageType::core;
+    const bool side_outside = cell_side[cell] != CellTag::inside;
+    for (int i = 0; i < n; ++i) {
+      const Real distance = std::sqrt(nearest[i].squared_distance);
+      const bool outside = core ? shape.sign(x[i], nearest[i]) > 0 : side_outside;
+      phi[Index(package) * n + i] = outside ? distance : -distance;
+    }
+  }
+};
 template <int D>
 struct NormalFromPhi {
   View<const Real> phi;
@@ -104,10 +135,15 @@ class LevelSetLayer {
     View<Real> values = phi.write(policy);
     particle_for(policy, Index(far_field_packages) * package_points<D>,
                  k::FarFieldValues<D>{values, normal.write(policy), far_field_distance});
-    data_point_for(policy, mesh,
-                   k::SignedDistanceAtDataPoints<D, Shape>{shape, grid(), mesh.package_cell.read(policy),
-                                                           mesh.package_type.read(policy), cell_side.read(policy),
-                                                           values});
+    if constexpr (D == 3 && P::space == MemorySpace::host && searches_triangle_mesh<Shape>)
+      package_for(policy, mesh,
+                  k::SignedDistanceInPackages<Shape>{shape, grid(), mesh.package_cell.read(policy),
+                                                     mesh.package_type.read(policy), cell_side.read(policy), values});
+    else
+      data_point_for(policy, mesh,
+                     k::SignedDistanceAtDataPoints<D, Shape>{shape, grid(), mesh.package_cell.read(policy),
+                                                             mesh.package_type.read(policy), cell_side.read(policy),
+                                                             values});
     fence(policy);
   }
   template <ExecutionPolicy P>

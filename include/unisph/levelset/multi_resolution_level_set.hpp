@@ -142,11 +142,21 @@ class MultiResolutionLevelSet {
       particle_for(policy, cells, SideOfRegion<D>{label.read(policy), votes.read(policy), decided.read_write(policy)});
     } else {
       LevelSetLayer<D>& coarse = *layers_[level - 1];
-      particle_for(policy, cells,
-                   TagUnderCoarseBand<D, Shape>{shape, grid, coarse.grid(), coarse.tags.read(policy),
-                                                decided.write(policy)});
+      if constexpr (D == 3 && P::space == MemorySpace::host && searches_triangle_mesh<Shape>)
+        particle_for(policy, coarse.grid().cell_count(),
+                     TagChildrenOfCoarseCells<Shape>{shape, grid, coarse.grid(), coarse.tags.read(policy),
+                                                     decided.write(policy)});
+      else
+        particle_for(policy, cells,
+                     TagUnderCoarseBand<D, Shape>{shape, grid, coarse.grid(), coarse.tags.read(policy),
+                                                  decided.write(policy)});
     }
-    particle_for(policy, cells, TagInner<D>{grid, decided.read(policy), layer.tags.write(policy)});
+    if (level == 0)
+      particle_for(policy, cells, TagInner<D>{grid, decided.read(policy), layer.tags.write(policy)});
+    else
+      particle_for(policy, cells,
+                   TagInner<D>{grid, decided.read(policy), layer.tags.write(policy), layers_[level - 1]->grid(),
+                               layers_[level - 1]->tags.read(policy)});
     fence(policy);
     auto t1 = Clock::now();
     layer.allocate_packages(policy);

@@ -19,6 +19,22 @@ using ShapeSearchView = std::conditional_t<D == 3, TriangleMeshSearchView, Polyg
 
 namespace unisph {
 
+template <class SearchView>
+struct WindingNumberSign;
+
+// Shapes that search a triangle mesh: triangle_mesh_of(shape) is its TriangleMeshSearchView, so
+// kernels may query the mesh for a batch of points at once (triangle_batch_nearest.hpp) and still
+// answer what shape.nearest would.
+template <class Shape>
+inline constexpr bool searches_triangle_mesh = false;
+template <>
+inline constexpr bool searches_triangle_mesh<TriangleMeshSearchView> = true;
+template <>
+inline constexpr bool searches_triangle_mesh<WindingNumberSign<TriangleMeshSearchView>> = true;
+
+UNISPH_HOST_DEVICE inline const TriangleMeshSearchView& triangle_mesh_of(const TriangleMeshSearchView& s) { return s; }
+UNISPH_HOST_DEVICE inline const TriangleMeshSearchView& triangle_mesh_of(const WindingNumberSign<TriangleMeshSearchView>& s);
+
 // A shape search signed by the generalized winding number (inside where it exceeds 1/2)
 // instead of the pseudonormal of the nearest feature: right also where a closed mesh overlaps
 // itself or holds inner walls (the pseudonormal of an inner wall points into the solid), and
@@ -36,5 +52,9 @@ struct WindingNumberSign {
     return search.winding_number(p) > Real(0.5) ? -1 : 1;
   }
 };
+
+UNISPH_HOST_DEVICE inline const TriangleMeshSearchView& triangle_mesh_of(const WindingNumberSign<TriangleMeshSearchView>& s) {
+  return s.search;
+}
 
 }  // namespace unisph
