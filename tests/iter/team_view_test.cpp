@@ -35,7 +35,7 @@ struct ExchangeThroughTheTeam {
   template <class Team>
   UNISPH_HOST_DEVICE void operator()(const Team& team, Index g) const {
     using Points = iter::View<iter::PackageDataPoints<D>, direction::Forward, Team, iter::CompileTimeTuple<>>;
-    const Points view(iter::PackageDataPoints<D>{std::uint32_t(g + iter::first_data_package)}, {}, iter::NoChild{}, team);
+    const Points view(iter::PackageDataPoints<D>::of(std::uint32_t(g + iter::first_data_package)), {}, iter::NoChild{}, team);
     long long* mine = &shared[g * Size];
     const Index r = team.rank();
     Index t = 0;

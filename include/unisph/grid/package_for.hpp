@@ -33,7 +33,7 @@ namespace unisph {
 
 namespace detail {
 
-// The walk of data package `first_data_package + q` (q counted from the first data package):
+// The walk of the q-th data package of `packages` (package first_data_package + q):
 // with Points, the view of its data points shared by `team` (kernel(package, local_point) for
 // each); without, the package itself (kernel(package)).
 template <int D, bool Points, class F>
@@ -43,19 +43,19 @@ struct PackageWalk {
 
   template <class Team>
   UNISPH_HOST_DEVICE void operator()(const Team& team, Index q) const {
-    // One package: the positions q .. q + 1 of the mesh's data packages.
-    const iter::RuntimeTuple one_package{q, q + 1, 1};
+    // A view of the one package q: every element of a run of one (compile-time offset 0 and jump
+    // 1, one worker), so the view hands it out without a test and its child is a whole package.
+    using One = iter::CompileTimeTuple<>;
     if constexpr (Points) {
-      using PointsView = iter::View<iter::PackageDataPoints<D>, iter::direction::Forward, Team, iter::CompileTimeTuple<>>;
-      const iter::View<iter::PackagesOfMesh<D>, iter::direction::Forward, iter::collectivity::None, iter::RuntimeTuple,
-                       PointsView>
-          view(packages, one_package, PointsView(nullptr, {}, iter::NoChild{}, team));
+      using PointsView = iter::View<iter::PackageDataPoints<D>, iter::direction::Forward, Team, One>;
+      const iter::View<iter::PackagesOfMesh<D>, iter::direction::Forward, iter::collectivity::None, One, PointsView> view(
+          packages.part(q, 1), One{}, PointsView(nullptr, One{}, iter::NoChild{}, team));
       view.for_each([&](const iter::ValueSlot<DataPointAddress>& slot) {
         if (slot) kernel(slot->package, slot->local_point);
       });
     } else {
-      const iter::View<iter::PackagesOfMesh<D>, iter::direction::Forward, iter::collectivity::None, iter::RuntimeTuple>
-          view(packages, one_package);
+      const iter::View<iter::PackagesOfMesh<D>, iter::direction::Forward, iter::collectivity::None, One> view(
+          packages.part(q, 1));
       view.for_each([&](const iter::ValueSlot<std::uint32_t>& slot) {
         if (slot) kernel(*slot);
       });

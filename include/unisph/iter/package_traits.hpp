@@ -10,11 +10,12 @@
 // and the same hierarchy without a variable, where slots name places instead of pointing at values
 // (ValueSlot, slot_ref.hpp): what package_for and data_point_for walk (grid/package_for.hpp)
 //
-//   PackagesOfMesh<D>        the data packages of a mesh (index >= far_field_packages), random
-//                            access; slot: the package index (std::uint32_t); child: PackageDataPoints
+//   PackagesOfMesh<D>        a run of data packages of a mesh (of(mesh): all of them, index >=
+//                            far_field_packages; part(offset, n): n of them), random access; slot:
+//                            the package index (std::uint32_t); child: PackageDataPoints
 //   PackageDataPoints<D>     the 4^D data points of one package; slot: its DataPointAddress
 //                            (package, local point); under a padding position of the packages
-//                            (no_package) 4^D empty slots, so team walks stay in step
+//                            (empty_handle(): no points) 4^D empty slots, so team walks stay in step
 //
 // Values of package p sit at values[p * 4^D .. (p + 1) * 4^D) (package_mesh.hpp). A package's own
 // element (what a package-level view yields without a Child) is its first data point.
@@ -118,20 +119,30 @@ inline constexpr std::uint32_t no_package = ~std::uint32_t(0);
 template <int D>
 struct PackageDataPoints {
   static_assert(D == 2 || D == 3, "iter::PackageDataPoints<D>: packages of a sparse grid are 2D (4^2 points) or 3D (4^3).");
-  std::uint32_t package = no_package;  // the package whose points these are; no_package: none (padding)
+  std::uint32_t package = no_package;  // the package whose points these are
+  std::uint32_t points = 0;            // 4^D for a package, 0 under a padding position (empty_handle())
+
+  // The data points of `package`.
+  UNISPH_HOST_DEVICE static constexpr PackageDataPoints of(std::uint32_t package) {
+    return PackageDataPoints{package, std::uint32_t(package_points<D>)};
+  }
 };
 
+// A run of data packages of a mesh: packages first .. first + count - 1.
 template <int D>
 struct PackagesOfMesh {
   static_assert(D == 2 || D == 3, "iter::PackagesOfMesh<D>: packages of a sparse grid are 2D or 3D.");
-  Index packages = 0;  // every package of the mesh, the far-field ones included (PackageMesh::packages())
+  Index first = first_data_package;
+  Index count = 0;
 
-  // The packages of `mesh` (a PackageMesh<D>, or anything with packages()).
+  // Every data package of `mesh` (a PackageMesh<D>, or anything with data_packages()).
   template <class Mesh>
   static PackagesOfMesh of(const Mesh& mesh) {
     static_assert(Mesh::dimension == D, "iter::PackagesOfMesh<D>::of(mesh): the mesh has another dimension.");
-    return PackagesOfMesh{mesh.packages()};
+    return PackagesOfMesh{first_data_package, mesh.data_packages()};
   }
+  // The `n` packages from the one `offset` places on (the caller keeps offset + n within count).
+  UNISPH_HOST_DEVICE constexpr PackagesOfMesh part(Index offset, Index n) const { return PackagesOfMesh{first + offset, n}; }
 };
 
 template <int D>
@@ -150,11 +161,10 @@ struct ContainerTraits<PackageDataPoints<D>> : RandomAccessNavigation {
   UNISPH_HOST_DEVICE static constexpr Cursor step(const Handle&, Cursor cursor, Index k, bool forward) {
     return step_by(cursor, k, forward);
   }
-  UNISPH_HOST_DEVICE static constexpr bool holds_element(const Handle& h, Cursor) { return h.package != no_package; }
-  // All 4^D points of a package, none of a padding position: View::for_each walks them without a test.
-  UNISPH_HOST_DEVICE static constexpr Index filled_prefix(const Handle& h) {
-    return h.package != no_package ? Index(package_points<D>) : 0;
-  }
+  UNISPH_HOST_DEVICE static constexpr bool holds_element(const Handle& h, Cursor point) { return point < h.points; }
+  // All 4^D points of a package (a compile-time 4^D where the handle comes from child()), none
+  // under a padding position: View::for_each walks them without a test.
+  UNISPH_HOST_DEVICE static constexpr Index filled_prefix(const Handle& h) { return h.points; }
   UNISPH_HOST_DEVICE static constexpr Index slot_count(const Handle&) { return package_points<D>; }
   UNISPH_HOST_DEVICE static constexpr ValueSlot<DataPointAddress> slot(const Handle& h, Cursor point) {
     return ValueSlot<DataPointAddress>::of(DataPointAddress{h.package, int(point)});
@@ -172,12 +182,10 @@ struct ContainerTraits<PackagesOfMesh<D>> : RandomAccessNavigation {
   static constexpr bool every_slot_filled = true;
 
   UNISPH_HOST_DEVICE static constexpr Handle empty_handle() { return Handle{}; }
-  UNISPH_HOST_DEVICE static constexpr Index size(const Handle& h) {
-    return h.packages > first_data_package ? h.packages - first_data_package : 0;
-  }
+  UNISPH_HOST_DEVICE static constexpr Index size(const Handle& h) { return h.count; }
   // The cursor is the package index.
   UNISPH_HOST_DEVICE static constexpr Cursor start(const Handle& h, Index position, bool forward) {
-    return first_data_package + start_at(size(h), position, forward);
+    return h.first + start_at(h.count, position, forward);
   }
   UNISPH_HOST_DEVICE static constexpr Cursor step(const Handle&, Cursor cursor, Index k, bool forward) {
     return step_by(cursor, k, forward);
@@ -187,7 +195,7 @@ struct ContainerTraits<PackagesOfMesh<D>> : RandomAccessNavigation {
     return ValueSlot<std::uint32_t>::of(std::uint32_t(package));
   }
   UNISPH_HOST_DEVICE static constexpr ChildContainer child(const Handle&, Cursor package) {
-    return ChildContainer{std::uint32_t(package)};
+    return ChildContainer::of(std::uint32_t(package));
   }
 };
 
