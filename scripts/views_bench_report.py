@@ -7,7 +7,8 @@ machine shared with other jobs, where a single-threaded loop gets only part of a
 and device rows stay wall-clock, the only time that counts for them).
 Prints one Markdown row per case and policy: the median time of the hand-written loop, of the
 view's iterator loop, of View::for_each and, where the case has them, of the engine's direct
-neighbour search ("direct") and of a plain per-package loop ("plain"), their ratios to the hand
+neighbour search ("direct"), of the engine's data_point_for ("engine"), of a plain per-package
+loop ("plain") and of a CUDA block per package ("team"), their ratios to the hand
 loop (and for_each / direct), and whether all checksums of the case agree.
 """
 import json
@@ -39,7 +40,7 @@ def main(args):
           f"unisph_host_threads={context.get('unisph_host_threads', '?')}, gpu: {context.get('unisph_gpu', '?')}"
           + (", seq rows: CPU time" if seq_cpu else ""))
     print()
-    loops = [l for l in ("view", "for_each", "nested", "direct", "plain") if any(k[2] == l for k in times)]
+    loops = [l for l in ("view", "for_each", "nested", "direct", "engine", "plain", "team") if any(k[2] == l for k in times)]
     head = ["case", "policy", "reps", "hand (ms)"]
     for loop in loops:
         head += [f"{loop} (ms)", f"{loop} / hand"]

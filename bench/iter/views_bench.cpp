@@ -12,9 +12,14 @@
 //                   walks one CSR range per row of 3 cells). Same pairs in the same order: the
 //                   checksum (sum of the per-particle sums) is equal bit for bit.
 //   packages        a loop over every data point of a sparse grid (48^3 cells, all with a package):
-//                   out = 2 in + local point. "hand" is data_point_for (the engine's loop, one item
-//                   per data point), "for_each"/"view" a view of one package per item with its
-//                   child view of the 4^3 points, "plain" one item per package with a plain loop.
+//                   out = 2 in + local point. "hand" is the flat loop data_point_for was before it
+//                   walked views (one particle_for item per data point, package and local point
+//                   from the item's index; kept here as the reference), "engine" the engine's
+//                   data_point_for (grid/package_for.hpp: a view of packages -> data points, one
+//                   worker per package on the host, a team of 64 threads per package, 4 teams per
+//                   CUDA block, on the GPU), "for_each"/"view" a view of one package per item with
+//                   its child view of the 4^3 values, "plain" one item per package with a plain
+//                   loop, "team" (GPU) one CUDA block of 64 per package (collective_for).
 // Loops: "view" is the slides' iterator loop (a range-for over the view), "for_each" the
 // view's internal iteration (View::for_each: one plain loop per level), "nested" a range-for per
 // level over View::children() (a range of the child views), "hand" the loop one
@@ -442,7 +447,7 @@ namespace pk {
 constexpr int D = 3;
 constexpr Index points = package_points<D>;
 
-// The engine's loop: data_point_for, one item per data point.
+// The kernel of "hand" and "engine": kernel(package, local point).
 struct ByDataPoint {
   unisph::View<const Real> in;
   unisph::View<Real> out;
@@ -451,6 +456,20 @@ struct ByDataPoint {
     out[k] = Real(2) * in[k] + Real(local);
   }
 };
+
+// "hand": data_point_for as it was before it walked views (commit 95da0ed), a flat loop with one
+// item per data point.
+template <class F>
+struct SplitDataPoint {
+  F kernel;
+  UNISPH_HOST_DEVICE void operator()(Index i) const {
+    kernel(std::uint32_t(i / points + far_field_packages), int(i % points));
+  }
+};
+template <class P, class F>
+void flat_data_point_for(P policy, const PackageMesh<D>& mesh, const F& kernel) {
+  particle_for(policy, mesh.data_packages() * points, SplitDataPoint<F>{kernel});
+}
 
 // One package per item: a view of that package (offset q, jump the package count) with its
 // child view of the 4^3 points.
@@ -504,7 +523,7 @@ struct ByTeam {
   }
 };
 
-enum Loop { by_data_point, by_for_each, by_iterators, by_plain_package, by_team };
+enum Loop { by_flat_loop, by_engine, by_for_each, by_iterators, by_plain_package, by_team };
 
 template <class P, int L>
 void Packages(benchmark::State& state) {
@@ -528,7 +547,9 @@ void Packages(benchmark::State& state) {
   const unisph::View<Real> y = out.write(P{});
   const iter::DataPackages<const Real, D> packages{x.data(), mesh.packages()};
   const auto run = [&] {
-    if constexpr (L == by_data_point)
+    if constexpr (L == by_flat_loop)
+      flat_data_point_for(P{}, mesh, ByDataPoint{x, y});
+    else if constexpr (L == by_engine)
       data_point_for(P{}, mesh, ByDataPoint{x, y});
     else if constexpr (L == by_for_each)
       particle_for(P{}, mesh.data_packages(), ByView<true>{packages, y.data()});
@@ -576,7 +597,8 @@ using pk::Packages;
   UNISPH_VIEWS_BENCHMARK("strided", "hand/" policy_name, PerSupercell, P, StridedHand)               \
   UNISPH_NEIGHBOR_BENCHMARKS(P, policy_name, "neighbors_cell_order", NeighborsCellOrder)         \
   UNISPH_NEIGHBOR_BENCHMARKS(P, policy_name, "neighbors_any_order", NeighborsAnyOrder)           \
-  UNISPH_VIEWS_BENCHMARK("packages", "hand/" policy_name, Packages, P, pk::by_data_point)        \
+  UNISPH_VIEWS_BENCHMARK("packages", "hand/" policy_name, Packages, P, pk::by_flat_loop)         \
+  UNISPH_VIEWS_BENCHMARK("packages", "engine/" policy_name, Packages, P, pk::by_engine)          \
   UNISPH_VIEWS_BENCHMARK("packages", "for_each/" policy_name, Packages, P, pk::by_for_each)      \
   UNISPH_VIEWS_BENCHMARK("packages", "view/" policy_name, Packages, P, pk::by_iterators)         \
   UNISPH_VIEWS_BENCHMARK("packages", "plain/" policy_name, Packages, P, pk::by_plain_package)

@@ -12,6 +12,17 @@
 // The host teams are std::threads, never oneTBB tasks: a barrier between tasks can wait forever,
 // because oneTBB does not promise that tasks run at the same time.
 //
+// collective_for<TeamSize>(policy, groups, kernel): the same with a team size known at compile
+// time, for small teams (the 4^D data points of a package: data_point_for):
+//
+//   par_device   several teams per CUDA block (TeamsPerBlock = 256 / TeamSize, one team per block
+//                from 256 threads on): team t of block b runs groups b * TeamsPerBlock + t, then a
+//                grid's worth further; team: collectivity::DeviceTeam<TeamSize, TeamsPerBlock>, whose
+//                size() is the constant TeamSize (a view's trip arithmetic folds) and whose sync()
+//                waits for the team alone (__syncwarp(mask) within a warp, a named barrier for whole
+//                warps). TeamSize: a power of two up to 32 or a multiple of 32 up to 1024.
+//   seq, par     as collective_for(policy, groups, TeamSize, kernel): teams of std::threads
+//
 // The kernel is a trivially copyable function object with a template call operator, since the
 // team's type differs between host and device:
 //   struct K { template <class Team> UNISPH_HOST_DEVICE void operator()(const Team& team, Index g) const; };
@@ -87,7 +98,21 @@ __global__ void collective_kernel(Index groups, K kernel) {
   // The loop bound is the same for every thread of the block, so every thread reaches every sync.
   for (Index g = blockIdx.x; g < groups; g += gridDim.x) kernel(collectivity::DeviceBlock{}, g);
 }
+
+// Teams of TeamSize consecutive threads, TeamsPerBlock of them per block. The loop bound is the
+// same for every thread of a team (not of the block: teams meet at their own barriers).
+template <Index TeamSize, Index TeamsPerBlock, class K>
+__global__ void __launch_bounds__(TeamSize * TeamsPerBlock) team_kernel(Index groups, K kernel) {
+  const collectivity::DeviceTeam<TeamSize, TeamsPerBlock> team;
+  const Index stride = Index(gridDim.x) * TeamsPerBlock;
+  for (Index g = Index(blockIdx.x) * TeamsPerBlock + Index(threadIdx.x / unsigned(TeamSize)); g < groups; g += stride)
+    kernel(team, g);
+}
 #endif
+
+// Teams per CUDA block of collective_for<TeamSize>: blocks of 256 threads where teams are smaller.
+template <Index TeamSize>
+inline constexpr Index device_teams_per_block = TeamSize >= 256 ? 1 : 256 / TeamSize;
 
 }  // namespace detail
 
@@ -116,6 +141,35 @@ void collective_for(P, Index groups, Index team_size, const K& kernel) {
     detail::collective_kernel<<<static_cast<unsigned>(blocks), static_cast<unsigned>(team_size), 0,
                                 static_cast<cudaStream_t>(cuda::stream_handle())>>>(groups, kernel);
     cuda::check_launch("collective_for", groups);
+#elif UNISPH_HAS_CUDA
+    static_assert(backend::dependent_false_v<K>,
+                  "collective_for(par_device, ...) launches a GPU kernel, so this source file must be compiled by nvcc: "
+                  "list it in unisph_kernel_sources() in CMake (or give it LANGUAGE CUDA).");
+#else
+    require_policy(PolicyKind::device);
+#endif
+  }
+}
+
+template <Index TeamSize, ExecutionPolicy P, class K>
+void collective_for(P policy, Index groups, const K& kernel) {
+  static_assert(collectivity::valid_device_team_size<TeamSize>,
+                "collective_for<TeamSize>: a team is a power of two up to 32 threads (within one warp) or a multiple of "
+                "32 up to 1024 (whole warps of one block); for other sizes use collective_for(policy, groups, "
+                "team_size, kernel), one block per team.");
+  if constexpr (P::space == MemorySpace::host) {
+    collective_for(policy, groups, TeamSize, kernel);
+  } else {
+    (void)policy;
+    detail::check_collective_kernel<K>();
+#if UNISPH_HAS_CUDA && defined(__CUDACC__)
+    cuda::require_device();
+    if (groups == 0) return;
+    constexpr Index teams = detail::device_teams_per_block<TeamSize>;
+    const Index blocks = std::min<Index>((groups + teams - 1) / teams, 2147483647);
+    detail::team_kernel<TeamSize, teams><<<static_cast<unsigned>(blocks), static_cast<unsigned>(TeamSize * teams), 0,
+                                           static_cast<cudaStream_t>(cuda::stream_handle())>>>(groups, kernel);
+    cuda::check_launch("collective_for<TeamSize>", groups);
 #elif UNISPH_HAS_CUDA
     static_assert(backend::dependent_false_v<K>,
                   "collective_for(par_device, ...) launches a GPU kernel, so this source file must be compiled by nvcc: "

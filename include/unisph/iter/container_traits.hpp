@@ -17,7 +17,7 @@
 //   start(h, position, forward) the cursor of the element at `position` in walking order
 //   step(h, cursor, k, forward)  the cursor k elements further on (or an end cursor)
 //   holds_element(h, cursor)   whether the slot holds an element (false for free slots)
-//   element(h, cursor)         Component& of a slot that holds one
+//   element(h, cursor)         Component& of a slot that holds one (or slot(h, cursor), below)
 // and, where views can nest below it, ChildContainer and child(h, cursor): the container one
 // level down and its handle (ContainerTraits<ChildContainer>::Handle). Optional:
 //   random_access              true where the cursor follows from the position (RandomAccessNavigation)
@@ -26,6 +26,11 @@
 //   every_slot_filled          true where every slot holds an element (holds_element is always
 //                              true): a walk without padding positions then tests no slot
 //   small_positions            true where element counts always fit 32 bits: 32-bit positions
+//   slot(h, cursor)            instead of element(): the slot of a filled position, a ValueSlot
+//                              holding a value that names the element (slot_ref.hpp), for containers
+//                              whose elements are places of a structure with nothing in memory to
+//                              point at (a package of a mesh, a data point of a package:
+//                              package_traits.hpp); the view then yields that slot type
 
 #include <type_traits>
 

@@ -7,6 +7,11 @@
 //
 //   auto wrapper = *it;
 //   if (wrapper) use(*wrapper);
+//
+// SlotRef<T> points at the element. ValueSlot<T> holds a value that names the element (a
+// package's index, a data point's (package, local point)): the slot of a container whose
+// elements are places of a structure rather than values in memory (package_traits.hpp), where
+// there is nothing to point at. Both read the same way: `if (slot) use(*slot);`.
 
 #include <type_traits>
 
@@ -50,5 +55,36 @@ class SlotRef {
 };
 
 static_assert(std::is_trivially_copyable_v<SlotRef<int>>);
+
+template <class T>
+class ValueSlot {
+  static_assert(std::is_trivially_copyable_v<T>,
+                "iter::ValueSlot<T>: the value that names an element is copied into device code, so it must be "
+                "trivially copyable (an index, a small struct of indices).");
+
+ public:
+  using element_type = const T;
+
+  ValueSlot() = default;
+  // The slot of an element (a filled slot); ValueSlot() is an empty one.
+  UNISPH_HOST_DEVICE static constexpr ValueSlot of(const T& value) {
+    ValueSlot slot;
+    slot.value_ = value;
+    slot.valid_ = true;
+    return slot;
+  }
+
+  UNISPH_HOST_DEVICE constexpr explicit operator bool() const { return valid_; }
+  UNISPH_HOST_DEVICE constexpr bool valid() const { return valid_; }
+  // The value; only for a valid slot.
+  UNISPH_HOST_DEVICE constexpr const T& operator*() const { return value_; }
+  UNISPH_HOST_DEVICE constexpr const T* operator->() const { return &value_; }
+
+ private:
+  T value_{};
+  bool valid_ = false;
+};
+
+static_assert(std::is_trivially_copyable_v<ValueSlot<unsigned>>);
 
 }  // namespace unisph::iter

@@ -75,7 +75,7 @@ class SupercellContainer {
   Index add_supercells(Index count) {
     const Index first = headers_.size();
     headers_.resize(first + count);
-    View<SupercellHeader> headers = headers_.read_write(MemorySpace::host);
+    unisph::View<SupercellHeader> headers = headers_.read_write(MemorySpace::host);
     for (Index i = first; i < first + count; ++i) headers[i] = SupercellHeader::empty();
     return first;
   }
@@ -91,7 +91,7 @@ class SupercellContainer {
       if (particles.size() > room) new_frames = (particles.size() - room + N - 1) / N;
     }
     reserve_frames(frames_used_ + new_frames);
-    View<frame_type> frames = frames_.read_write(MemorySpace::host);
+    unisph::View<frame_type> frames = frames_.read_write(MemorySpace::host);
     SupercellHeader& h = headers_.read_write(MemorySpace::host)[supercell];
     for (const Particle& p : particles) {
       if (h.frame_count == 0 || h.particles_in_last_frame == N) chain_new_frame(frames, h);
@@ -105,7 +105,7 @@ class SupercellContainer {
   void append_empty_frame(Index supercell) {
     check_supercell(supercell);
     reserve_frames(frames_used_ + 1);
-    View<frame_type> frames = frames_.read_write(MemorySpace::host);
+    unisph::View<frame_type> frames = frames_.read_write(MemorySpace::host);
     chain_new_frame(frames, headers_.read_write(MemorySpace::host)[supercell]);
   }
 
@@ -140,7 +140,7 @@ class SupercellContainer {
     while (capacity < needed) capacity *= 2;
     frames_.resize(capacity);
   }
-  void chain_new_frame(View<frame_type> frames, SupercellHeader& h) {
+  void chain_new_frame(unisph::View<frame_type> frames, SupercellHeader& h) {
     const Index f = frames_used_++;
     frames[f].previous = h.last_frame;
     frames[f].next = no_frame;

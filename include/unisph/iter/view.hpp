@@ -42,6 +42,7 @@
 #include <iterator>
 #include <ranges>
 #include <type_traits>
+#include <utility>
 
 #include "unisph/core/config.hpp"
 #include "unisph/iter/collectivity.hpp"
@@ -192,9 +193,19 @@ class View : public std::ranges::view_base {
   struct slot_of {
     using type = typename V::slot_type;
   };
+  // A container whose slots name their elements by value (ContainerTraits::slot(h, cursor): a
+  // package's index, a data point's address) hands out its own slot type; the others a pointer.
+  static constexpr bool value_slots = requires(const typename Traits::Handle& h, const typename Traits::Cursor& c) {
+    Traits::slot(h, c);
+  };
   template <class Unused>
   struct slot_of_leaf {
     using type = SlotRef<typename ContainerTraits<Container>::Component>;
+  };
+  template <class Unused>
+  struct value_slot_of_leaf {
+    using type = decltype(ContainerTraits<Container>::slot(std::declval<const typename ContainerTraits<Container>::Handle&>(),
+                                                           std::declval<const typename ContainerTraits<Container>::Cursor&>()));
   };
 
   using container_type = Container;
@@ -205,7 +216,16 @@ class View : public std::ranges::view_base {
   using child_type = Child;
   // What dereferencing an iterator gives: a slot of the lowest level.
   using slot_type =
-      typename std::conditional_t<has_child, slot_of<Child>, slot_of_leaf<Container>>::type;
+      typename std::conditional_t<has_child, slot_of<Child>,
+                                  std::conditional_t<value_slots, value_slot_of_leaf<Container>, slot_of_leaf<Container>>>::type;
+
+  // The slot of a position that holds an element.
+  UNISPH_HOST_DEVICE static constexpr slot_type filled_slot(const handle_type& h, const typename Traits::Cursor& c) {
+    if constexpr (value_slots)
+      return Traits::slot(h, c);
+    else
+      return slot_type::of(Traits::element(h, c));
+  }
 
   class iterator {
    public:
@@ -221,7 +241,7 @@ class View : public std::ranges::view_base {
       if constexpr (has_child)
         return *child_;
       else
-        return walk_.holds_element() ? slot_type::of(Traits::element(walk_.handle, walk_.cursor())) : slot_type();
+        return walk_.holds_element() ? filled_slot(walk_.handle, walk_.cursor()) : slot_type();
     }
     UNISPH_HOST_DEVICE constexpr iterator& operator++() {
       if constexpr (has_child) {
@@ -378,20 +398,20 @@ class View : public std::ranges::view_base {
       const Index stop = last < walk.count ? last : walk.count;
       if constexpr (!forward)
         for (; !walk.at_end() && walk.position < slots - filled; walk.advance()) f(slot_type());
-      for (; walk.position < stop; walk.advance()) f(slot_type::of(Traits::element(handle_, walk.cursor())));
+      for (; walk.position < stop; walk.advance()) f(filled_slot(handle_, walk.cursor()));
       for (; !walk.at_end(); walk.advance()) f(slot_type());
     } else {
       for (Walk walk = start(); !walk.at_end(); walk.advance()) {
         if constexpr (dense && has_child) {
           child_.rebind(Traits::child(walk.handle, walk.cursor())).for_each(f);
         } else if constexpr (dense) {
-          f(slot_type::of(Traits::element(walk.handle, walk.cursor())));
+          f(filled_slot(walk.handle, walk.cursor()));
         } else if constexpr (has_child) {
           using ChildTraits = ContainerTraits<typename Child::container_type>;
           child_.rebind(walk.holds_element() ? Traits::child(walk.handle, walk.cursor()) : ChildTraits::empty_handle())
               .for_each(f);
         } else {
-          f(walk.holds_element() ? slot_type::of(Traits::element(walk.handle, walk.cursor())) : slot_type());
+          f(walk.holds_element() ? filled_slot(walk.handle, walk.cursor()) : slot_type());
         }
       }
     }
