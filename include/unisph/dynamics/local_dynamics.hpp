@@ -16,24 +16,28 @@
 
 #include "unisph/dynamics/kernel_shell.hpp"
 #include "unisph/exec/algorithms.hpp"
+#include "unisph/exec/occupancy_hint.hpp"
 
 namespace unisph {
 
 namespace detail {
 template <class Kernel>
 struct UpdateLaunch {
+  static constexpr int min_blocks_per_multiprocessor = unisph::min_blocks_per_multiprocessor<Kernel>();
   Kernel kernel;
   Real dt;
   UNISPH_HOST_DEVICE void operator()(Index i) const { kernel.update(i, dt); }
 };
 template <class Kernel>
 struct InteractionLaunch {
+  static constexpr int min_blocks_per_multiprocessor = unisph::min_blocks_per_multiprocessor<Kernel>();
   Kernel kernel;
   Real dt;
   UNISPH_HOST_DEVICE void operator()(Index i) const { kernel.interaction(i, dt); }
 };
 template <class Kernel>
 struct ReduceLaunch {
+  static constexpr int min_blocks_per_multiprocessor = unisph::min_blocks_per_multiprocessor<Kernel>();
   Kernel kernel;
   Real dt;
   UNISPH_HOST_DEVICE auto operator()(Index i) const { return kernel.reduce(i, dt); }

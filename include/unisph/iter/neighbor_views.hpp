@@ -9,9 +9,8 @@
 // each candidate. It gives the pairs of NeighborSearch::for_each_direct_neighbor in the same order,
 // bit for bit (tests/iter/neighbor_views_test.cpp, every policy).
 //
-// It is not the engine's search: as the engine it kept the SPH solver within 5 % on an H100 but made
-// neighbor_bench's GPU density pass 9 % (Morton order) to 27 % (through the cell-ordered copy of the
-// positions) slower, with more registers per thread (docs/views.md, "Not done yet").
+// It is the engine's search: NeighborSearch walks its stencil with these views, so there is one
+// neighbour-iteration implementation (docs/views.md).
 
 #include "unisph/core/config.hpp"
 #include "unisph/iter/stencil_traits.hpp"
@@ -19,47 +18,12 @@
 
 namespace unisph::iter {
 
-namespace detail {
-
-// f(j, pair) for the neighbours of x_i among the candidates of one row.
-template <class T, int D, class Reader, class F>
-UNISPH_NEIGHBOR_LOOP UNISPH_HOST_DEVICE inline void neighbors_in_row(const SearchGrid<T, D>& grid, const row_view_t<T, D>& row,
-                                                const Vec<T, D>& xi, const Reader& read, F& f) {
-  row.for_each([&](typename Reader::Slot slot) {
-    if (read.is_self(slot)) return;
-    NeighborPair<T, D> pair;
-    if (grid.test_pair(xi, read.position(slot), pair.r_ij, pair.squared_distance)) {
-      pair.complete();
-      f(read.index(slot), static_cast<const NeighborPair<T, D>&>(pair));
-    }
-  });
-}
-
-}  // namespace detail
-
-// f(j, pair) for every neighbour j of source i (see the top of this file). Host compilers inline
-// the whole walk and f into it (UNISPH_NEIGHBOR_LOOP), as for the direct search.
+// f(j, pair) for every neighbour j of source i: the engine's direct search, which is this walk
+// (NeighborSearch::for_each_direct_neighbor: for_each_stencil_row, each row's view walked with the
+// cutoff test on each candidate).
 template <class T, int D, class F>
-UNISPH_NEIGHBOR_LOOP UNISPH_HOST_DEVICE inline void for_each_neighbor(const NeighborSearch<T, D>& search, Index i, F&& f) {
-  const Vec<T, D> xi = search.sources[i];
-  const SearchGrid<T, D>& grid = search.targets.grid;
-  const CellPlacement<D> placement = grid.place(xi);
-  // As the direct search: a NaN coordinate has no neighbours, nor (in an inner relation whose
-  // list flags outside particles) a source outside the box.
-  if (placement.status & placement_non_finite) return;
-  if (search.inner && search.targets.flag_outside && placement.status != placement_inside) return;
-  // The list by pointer: its arrays and the grid stay kernel parameters (copies held registers).
-  const StencilArrays<T, D> arrays{&search.targets};
-  const bool contiguous = search.targets.in_cell_order();
-  const auto by_index = CandidateReader<T, D, CellOrder::indexed>::of(arrays, search.inner, i);
-  const auto by_place = CandidateReader<T, D, CellOrder::contiguous>::of(arrays, search.inner, i);
-  // The order is chosen per row (one branch per row), so the stencil is walked by one piece of code.
-  for_each_row<T, D>(stencil_around(grid, arrays, placement, xi), [&](const row_view_t<T, D>& row) {
-    if (contiguous)
-      detail::neighbors_in_row(grid, row, xi, by_place, f);
-    else
-      detail::neighbors_in_row(grid, row, xi, by_index, f);
-  });
+UNISPH_HOST_DEVICE inline void for_each_neighbor(const NeighborSearch<T, D>& search, Index i, F&& f) {
+  search.for_each_direct_neighbor(i, f);
 }
 
 }  // namespace unisph::iter

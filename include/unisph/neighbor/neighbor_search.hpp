@@ -27,6 +27,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "unisph/iter/stencil_traits.hpp"
 #include "unisph/neighbor/cell_linked_list.hpp"
 #include "unisph/neighbor/neighbor_pair.hpp"
 
@@ -140,12 +141,8 @@ struct NeighborSearch {
     for (std::uint64_t k = 0; k < n; ++k, slot += list_slot_stride) f(Index(list_neighbors[slot]), list_pairs[slot]);
   }
 
-  // The row walk below, not the hierarchical view walk (iter::for_each_neighbor, iter/neighbor_views.hpp:
-  // the stencil as planes -> rows of cells -> the CSR places of a row, the same pairs in the same
-  // order). With the view walk as the engine (commit 27d81cb of branch wt-views) the SPH solver on an
-  // H100 stayed within 5 % (bench/sph, 3D dx 0.0125 float -3.7 %, double +0.1 % fluid steps/s), but
-  // neighbor_bench's GPU density pass did not: +9 % in Morton order, +17 to +27 % through the
-  // cell-ordered copy of the positions (its kernel: 40 registers against this walk's 32; docs/views.md).
+  // The direct search: the candidates of the stencil's rows (for_each_direct_candidate) with the
+  // cutoff test on each.
   template <class F>
   UNISPH_NEIGHBOR_LOOP UNISPH_HOST_DEVICE void for_each_direct_neighbor(Index i, F&& f) const {
     for_each_direct_candidate(i, [&](Index j, const Vec<T, D>& xi, const Vec<T, D>& xj) {
@@ -186,71 +183,31 @@ struct NeighborSearch {
   }
 
   // Calls g(begin, end) for the CSR ranges [begin, end) of `targets.particles` that can hold
-  // neighbours of x: one range per row of cells along axis 0 (consecutive in the CSR). With
-  // cells smaller than the cutoff (grid.reach > 1) the cells whose nearest point is beyond
-  // the cutoff are skipped, axis by axis (planes, then rows, then the ends of each row); the
-  // test is in cell units with a padded radius (SearchGrid::stencil_radius), so it never
-  // skips a neighbour. Positions outside the box walk the whole clamped stencil.
+  // neighbours of x: one per row of cells of the stencil's view (for_each_stencil_row). The
+  // places of a row are one contiguous range, which every neighbour loop walks as a counted loop
+  // (as a view of its own, the row's places measured 7 to 18 % slower in neighbor_bench's GPU
+  // density pass on an H100; docs/views.md).
   template <class G>
   UNISPH_HOST_DEVICE void for_each_candidate_range(const Vec<T, D>& x, G&& g) const {
-    const SearchGrid<T, D>& grid = targets.grid;
-    const CellPlacement<D> placement = grid.place(x);
+    for_each_stencil_row(x, [&](const iter::row_view_t<T, D>& row) { g(row.container().begin, row.container().end); });
+  }
+
+  // The one walk of the direct search: g(row) for the view of each row of cells of the stencil
+  // around x (iter/stencil_traits.hpp: planes -> rows of cells -> the CSR places of a row;
+  // consecutive cells along axis 0 are consecutive places, so a row is one contiguous range).
+  // The stencil is the 3^D cells around x's cell; with cells smaller than the cutoff
+  // (grid.reach > 1), those of the (2 reach + 1)^D that come within the cutoff, trimmed axis by
+  // axis (planes, then rows, then the ends of each row) in cell units with a padded radius
+  // (SearchGrid::stencil_radius), so it never skips a neighbour. A NaN coordinate has no
+  // neighbours, nor, in an inner relation whose list flags outside particles, a source outside
+  // the box; other positions outside the box walk the whole clamped stencil.
+  template <class G>
+  UNISPH_HOST_DEVICE void for_each_stencil_row(const Vec<T, D>& x, G&& g) const {
+    const CellPlacement<D> placement = targets.grid.place(x);
     if (placement.status & placement_non_finite) return;
     if (inner && targets.flag_outside && placement.status != placement_inside) return;
-    const bool trim = grid.reach > 1 && placement.status == placement_inside;
-    Vec<T, D> t;
-    for (int a = 0; a < D; ++a) t[a] = trim ? grid.cell_coordinate(x, a) : T(0);
-    const T radius2 = grid.stencil_radius * grid.stencil_radius;
-    Vec<int, D> cell = placement.cell;
-    const auto row = [&](T left2) {  // left2: the squared radius left after axes 1..D-1
-      int first, last;
-      axis_range(0, placement.cell[0], trim, t[0], left2, first, last);
-      cell[0] = first;
-      const Index first_cell = grid.linear_index(cell);
-      g(targets.offsets[first_cell], targets.offsets[first_cell + static_cast<Index>(last - first) + 1]);
-    };
-    int y_first, y_last;
-    if constexpr (D == 2) {
-      axis_range(1, placement.cell[1], trim, t[1], radius2, y_first, y_last);
-      for (int ky = y_first; ky <= y_last; ++ky) {
-        cell[1] = ky;
-        row(radius2 - gap_squared(trim, ky, t[1]));
-      }
-    } else {
-      int z_first, z_last;
-      axis_range(2, placement.cell[2], trim, t[2], radius2, z_first, z_last);
-      for (int kz = z_first; kz <= z_last; ++kz) {
-        cell[2] = kz;
-        const T left_z = radius2 - gap_squared(trim, kz, t[2]);
-        axis_range(1, placement.cell[1], trim, t[1], left_z, y_first, y_last);
-        for (int ky = y_first; ky <= y_last; ++ky) {
-          cell[1] = ky;
-          row(left_z - gap_squared(trim, ky, t[1]));
-        }
-      }
-    }
-  }
-
-  // The cells along axis a within `reach` of cell c and inside the grid; when trimming, only
-  // those whose cell-unit interval [k, k + 1) comes within sqrt(left2) of t.
-  UNISPH_HOST_DEVICE void axis_range(int a, int c, bool trim, T t, T left2, int& first, int& last) const {
-    const SearchGrid<T, D>& grid = targets.grid;
-    first = c - grid.reach > 0 ? c - grid.reach : 0;
-    last = c + grid.reach < grid.cells[a] ? c + grid.reach : grid.cells[a] - 1;
-    if (trim) {
-      const T half = std::sqrt(left2 > T(0) ? left2 : T(0));
-      const T lo = std::floor(t - half), hi = std::floor(t + half);
-      if (lo > T(first)) first = static_cast<int>(lo);
-      if (hi < T(last)) last = static_cast<int>(hi);
-    }
-  }
-
-  // The squared distance in cell units from t to the cell interval [k, k + 1) (0 without trimming).
-  UNISPH_HOST_DEVICE static T gap_squared(bool trim, int k, T t) {
-    if (!trim) return T(0);
-    const T below = T(k) - t, above = t - T(k + 1);
-    const T gap = below > T(0) ? below : (above > T(0) ? above : T(0));
-    return gap * gap;
+    // The list by pointer: its arrays and the grid stay kernel parameters (copies held registers).
+    iter::for_each_row<T, D>(iter::stencil_around(targets.grid, iter::StencilArrays<T, D>{&targets}, placement, x), g);
   }
 };
 

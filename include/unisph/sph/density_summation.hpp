@@ -33,6 +33,8 @@ class DensitySummationFreeSurface : public InteractionDynamics<DensitySummationF
   }
 
   struct Kernel {
+    // exec/occupancy_hint.hpp: 6 blocks of 256 (at most 42 registers) in float, 4 (64) in double.
+    static constexpr int min_blocks_per_multiprocessor = sizeof(T) == 4 ? 6 : 4;
     NeighborSearch<T, D> inner, wall;
     View<const T> mass;
     View<T> density;

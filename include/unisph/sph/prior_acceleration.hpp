@@ -22,6 +22,8 @@ class PriorAcceleration : public InteractionDynamics<PriorAcceleration<T, D>> {
         wall_volume_(wall_volume) {}
 
   struct Kernel {
+    // exec/occupancy_hint.hpp: 5 blocks of 256 in float, 3 in double.
+    static constexpr int min_blocks_per_multiprocessor = sizeof(T) == 4 ? 5 : 3;
     NeighborSearch<T, D> inner, contact;
     View<const Vec<T, D>> velocity;
     View<const T> density, mass;

@@ -10,6 +10,7 @@
 #include "unisph/exec/backend/cuda/primitives.hpp"
 #include "unisph/exec/backend/cuda/runtime.hpp"
 #include "unisph/exec/backend/reduction_tree.hpp"
+#include "unisph/exec/occupancy_hint.hpp"
 
 namespace unisph::backend {
 
@@ -22,6 +23,14 @@ inline cudaStream_t stream() { return static_cast<cudaStream_t>(cuda::stream_han
 // One item per thread; the loop only turns when n exceeds the largest grid (2^31 - 1 blocks).
 template <class F>
 __global__ void __launch_bounds__(block_size) particle_for_kernel(Index n, F f) {
+  const Index stride = static_cast<Index>(gridDim.x) * block_size;
+  for (Index i = static_cast<Index>(blockIdx.x) * block_size + threadIdx.x; i < n; i += stride) f(i);
+}
+// The same for a kernel with an occupancy hint (exec/occupancy_hint.hpp). A separate kernel, since
+// __launch_bounds__(n, 1) is not the same as __launch_bounds__(n) to nvcc: measured, it gave other
+// kernels more registers than without the second argument.
+template <class F>
+__global__ void __launch_bounds__(block_size, min_blocks_per_multiprocessor<F>()) particle_for_kernel_hinted(Index n, F f) {
   const Index stride = static_cast<Index>(gridDim.x) * block_size;
   for (Index i = static_cast<Index>(blockIdx.x) * block_size + threadIdx.x; i < n; i += stride) f(i);
 }
@@ -97,7 +106,10 @@ struct Backend<ParallelDevicePolicy> {
     if (n == 0) return;
     Index blocks = (n + cuda_detail::block_size - 1) / cuda_detail::block_size;
     if (blocks > cuda_detail::max_blocks) blocks = cuda_detail::max_blocks;
-    cuda_detail::particle_for_kernel<<<static_cast<unsigned>(blocks), cuda_detail::block_size, 0, cuda_detail::stream()>>>(n, f);
+    if constexpr (min_blocks_per_multiprocessor<F>() > 0)
+      cuda_detail::particle_for_kernel_hinted<<<static_cast<unsigned>(blocks), cuda_detail::block_size, 0, cuda_detail::stream()>>>(n, f);
+    else
+      cuda_detail::particle_for_kernel<<<static_cast<unsigned>(blocks), cuda_detail::block_size, 0, cuda_detail::stream()>>>(n, f);
     cuda::check_launch("particle_for", n);
   }
 
