@@ -4,10 +4,9 @@
 //   iter::for_each_neighbor(search, i, [&](Index j, const NeighborPair<T, D>& pair) { ... });
 //
 // `search` is the kernel-side NeighborSearch of a relation. The walk: the stencil around x_i as
-// planes -> rows of cells -> the CSR places of each row (iter/stencil_traits.hpp), trimmed to the
-// cutoff as the direct search trims it, each row walked by View::for_each with the cutoff test on
-// each candidate. It gives the pairs of NeighborSearch::for_each_direct_neighbor in the same order,
-// bit for bit (tests/iter/neighbor_views_test.cpp, every policy).
+// planes -> rows of cells (iter/stencil_traits.hpp), trimmed to the cutoff, each row's CSR places
+// one contiguous range walked with the cutoff test on each candidate (tests/iter/neighbor_views_test.cpp
+// checks it against a hand-written row walk on every policy, bit for bit).
 //
 // It is the engine's search: NeighborSearch walks its stencil with these views, so there is one
 // neighbour-iteration implementation (docs/views.md).

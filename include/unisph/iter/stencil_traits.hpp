@@ -18,12 +18,10 @@
 // level's element count is known when its view starts (the view needs it for its trip count);
 // the trimming of a level below is computed when the parent hands it its element.
 //
-// A slot of RowPlaces is the place's entry in the list's `particles` array; CandidateReader reads a
-// candidate from it in the cell list's order (CellOrder):
-//   CellOrder::indexed     j = *slot, x_j = positions[j]
-//   CellOrder::contiguous  the particles are in cell order: j = the place (no load), x_j = positions[j]
-// The order is chosen per row (one branch per row, as the hand-written row walk does), so a
-// search has one walk of the stencil whatever the order.
+// The engine (NeighborSearch::for_each_stencil_row) walks the planes and rows with these views and
+// each row's places, one contiguous range [begin, end) of the list's CSR, as a counted loop: walked
+// as a view of its own (RowPlaces' slots with a reader of j and x_j), the rows measured 7 to 18 %
+// slower in neighbor_bench's GPU density pass on an H100 (docs/views.md).
 //
 // Every level walks with 32-bit positions (small_positions): on the GPU a 64-bit loop counter
 // costs two instructions per step and per compare, and two registers.
@@ -115,56 +113,6 @@ struct ContainerTraits<RowPlaces<T, D>> : RandomAccessNavigation {
   UNISPH_HOST_DEVICE static constexpr bool holds_element(const Handle&, Cursor) { return true; }
   UNISPH_HOST_DEVICE static constexpr Component& element(const Handle& h, Cursor place) {
     return h.particles[h.begin + std::uint32_t(place)];
-  }
-};
-
-// What a neighbour loop reads from a RowPlaces slot: j, x_j, and whether it is the source itself.
-template <class T, int D, CellOrder Order>
-struct CandidateReader {
-  static_assert(Order == CellOrder::indexed || Order == CellOrder::contiguous,
-                "iter::CandidateReader reads a row's candidates from the particle array, by index (indexed) or in "
-                "cell order (contiguous).");
-  using Slot = SlotRef<const std::uint32_t>;
-  static constexpr std::uint64_t none = ~std::uint64_t(0);
-
-  StencilArrays<T, D> arrays;
-  // The source itself, skipped in an inner relation: its index (indexed) or its place (contiguous:
-  // place i), so that the test is one comparison. none where nothing is skipped.
-  std::uint64_t self_index = none;
-  std::uint32_t self_place = ~std::uint32_t(0);  // a place never reaches 2^32 - 1
-
-  // `skip`: an inner relation; `source`: the source's index.
-  UNISPH_HOST_DEVICE static CandidateReader of(const StencilArrays<T, D>& arrays, bool skip, Index source) {
-    CandidateReader r;
-    r.arrays = arrays;
-    if (skip) {
-      if constexpr (Order == CellOrder::indexed)
-        r.self_index = source;
-      else
-        r.self_place = std::uint32_t(source);
-    }
-    return r;
-  }
-
-  // 32-bit: the list's places are 32-bit (and on the GPU a 64-bit index costs two registers).
-  UNISPH_HOST_DEVICE std::uint32_t place(Slot slot) const { return std::uint32_t(slot.get() - arrays.particles()); }
-  UNISPH_HOST_DEVICE Index index(Slot slot) const {
-    if constexpr (Order == CellOrder::contiguous)
-      return Index(place(slot));
-    else
-      return Index(*slot);
-  }
-  UNISPH_HOST_DEVICE Vec<T, D> position(Slot slot) const {
-    if constexpr (Order == CellOrder::indexed)
-      return arrays.positions()[*slot];
-    else
-      return arrays.positions()[place(slot)];
-  }
-  UNISPH_HOST_DEVICE bool is_self(Slot slot) const {
-    if constexpr (Order == CellOrder::indexed)
-      return std::uint64_t(*slot) == self_index;
-    else
-      return place(slot) == self_place;
   }
 };
 
