@@ -50,9 +50,6 @@
 #endif
 
 namespace unisph {
-#ifdef UNISPH_BATCH_WINDING_STATS
-inline std::atomic<long> batch_winding_fallbacks{0}, batch_winding_points{0};
-#endif
 
 #if UNISPH_BATCH_WINDING_VECTOR
 namespace detail {
@@ -258,15 +255,8 @@ UNISPH_HOST_DEVICE void batch_winding_inside(const TriangleMeshSearchView& searc
       const float off = angle[g][l] - two_pi;
       if (!((undecided[g] >> l) & 1) && (off > total || off < -total))
         inside[i] = off > 0.0f;
-      else {
-#ifdef UNISPH_BATCH_WINDING_STATS
-        ++batch_winding_fallbacks;
-#endif
+      else
         inside[i] = search.winding_number(x[i]) > Real(0.5);
-      }
-#ifdef UNISPH_BATCH_WINDING_STATS
-      ++batch_winding_points;
-#endif
     }
   }
 #endif
