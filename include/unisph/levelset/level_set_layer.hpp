@@ -172,6 +172,16 @@ struct SignedDistanceInPackages {
     }
   }
 };
+// kernel(package) once per package, launched over the data points (on the first of each): the
+// host policies' tasks are at least 2048 indices, here 32 packages, so that the coarse layers'
+// few, dear packages (a few thousand, 50 us each) are shared among the threads too.
+template <class F>
+struct OncePerPackage {
+  F kernel;
+  UNISPH_HOST_DEVICE void operator()(std::uint32_t package, int local_point) const {
+    if (local_point == 0) kernel(package);
+  }
+};
 template <int D>
 struct NormalFromPhi {
   View<const Real> phi;
@@ -231,7 +241,7 @@ class LevelSetLayer {
         kernel.children_tag = children_tag.write(policy);
         kernel.children_distance2 = children_distance2.write(policy);
       }
-      package_for(policy, mesh, kernel);
+      data_point_for(policy, mesh, k::OncePerPackage<k::SignedDistanceInPackages<Shape>>{kernel});
     } else {
       data_point_for(policy, mesh,
                      k::SignedDistanceAtDataPoints<D, Shape>{shape, grid(), mesh.package_cell.read(policy),
