@@ -12,7 +12,8 @@
 //              at the grid border outside, the others by a vote of their cells' signs), so the
 //              inside is closed even where the surface leaks and 2D holes and 3D cavities are
 //              right (outside_flood_fill.hpp); finer layers: only the children of
-//              coarse cells with packages are evaluated, the others inherit their parent's side;
+//              coarse cells with packages are evaluated, the others inherit their parent's side
+//              (on the host with a triangle mesh the coarse layer's distance stage decided them);
 //              then inner cells around the core
 //   packages   allocation sorted by Morton key (same layout on every policy and run), the
 //              neighbourhood tables
