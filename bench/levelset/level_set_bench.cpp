@@ -4,7 +4,7 @@
 // finest layer and its memory per data point (phi, cell -> package index, package metadata).
 //
 //   bench_level_set [N ...] [--policy seq|par|device ...] [--sign winding|pseudonormal]
-//                   [--no-kernel-integrals] [--no-cleaning] [--repeat R] [--openvdb]
+//                   [--no-kernel-integrals] [--no-cleaning] [--repeat R] [--openvdb] [--threads T]
 //                                                                             default N: 256 512
 //
 // --openvdb (where built with OpenVDB): OpenVDB's meshToLevelSet of the same mesh at the same
@@ -12,6 +12,9 @@
 // in the same run; its time (mesh in memory, no file input or output) and memUsage() per active
 // voxel, beside our finest layer's bytes per data point with |phi| < 3 dx in float (phi 4 bytes,
 // the cell -> package index, package cell, type and 27 neighbours).
+//
+// --threads T: at most T host threads (set_host_threads; OpenVDB runs on the same oneTBB, so it
+// is held to T as well). --threads 1 compares the work of both on one core.
 //
 // --sign: the generalized winding number (default; right for teapot.stl, which has walls
 // inside its volume) or the pseudonormal of the nearest feature (cheaper; wrong next to those
@@ -129,6 +132,8 @@ int main(int argc, char** argv) {
       options.cleaning = false;
     else if (a == "--openvdb")
       options.openvdb = true;
+    else if (a == "--threads" && i + 1 < argc)
+      set_host_threads(std::atoi(argv[++i]));
     else
       sizes.push_back(std::atoi(a.c_str()));
   }

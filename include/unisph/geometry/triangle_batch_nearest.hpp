@@ -247,9 +247,11 @@ UNISPH_HOST_DEVICE inline void batch_filter(const BatchTriangles& t, const float
 
 // nearest[i] = search.nearest(x[i]) for the `Points` points x, which should lie close together
 // around `centre` (the answer is the same for any points; the work grows with their spread).
+// centre_squared_distance: the centre's squared distance to the mesh, or any upper bound of it
+// (the candidates then are more).
 template <int Points>
 UNISPH_HOST_DEVICE void batch_nearest(const TriangleMeshSearchView& search, const Vec<Real, 3>& centre,
-                                      const Vec<Real, 3>* x, NearestTriangle* nearest) {
+                                      Real centre_squared_distance, const Vec<Real, 3>* x, NearestTriangle* nearest) {
   using V = Vec<Real, 3>;
   V lo = x[0], hi = x[0];
   Real rho2 = Real(0);
@@ -264,7 +266,7 @@ UNISPH_HOST_DEVICE void batch_nearest(const TriangleMeshSearchView& search, cons
   constexpr Real eps_real = std::numeric_limits<Real>::epsilon();
   constexpr Real eps_float = Real(std::numeric_limits<float>::epsilon());
   const Real rho = std::sqrt(rho2) * (Real(1) + Real(16) * eps_real);
-  const Real reach = (std::sqrt(search.nearest(centre).squared_distance) + rho) * (Real(1) + Real(1e-4)) +
+  const Real reach = (std::sqrt(centre_squared_distance) + rho) * (Real(1) + Real(1e-4)) +
                      Real(1e-30);  // R, with slack for round-off
   const Real reach2 = reach * reach;
   const Real centre_reach2 = (reach + rho) * (reach + rho);
@@ -384,6 +386,13 @@ UNISPH_HOST_DEVICE void batch_nearest(const TriangleMeshSearchView& search, cons
     }
     nearest[i] = b;
   }
+}
+
+// The same, with the centre's distance from a nearest query.
+template <int Points>
+UNISPH_HOST_DEVICE void batch_nearest(const TriangleMeshSearchView& search, const Vec<Real, 3>& centre,
+                                      const Vec<Real, 3>* x, NearestTriangle* nearest) {
+  batch_nearest<Points>(search, centre, search.nearest(centre).squared_distance, x, nearest);
 }
 
 }  // namespace unisph

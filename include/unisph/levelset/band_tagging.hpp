@@ -14,7 +14,6 @@
 #include <cstdint>
 
 #include "unisph/core/config.hpp"
-#include "unisph/geometry/triangle_batch_nearest.hpp"
 #include "unisph/grid/cell_tag.hpp"
 #include "unisph/grid/package_grid.hpp"
 #include "unisph/memory/view.hpp"
@@ -61,31 +60,26 @@ struct TagUnderCoarseBand {
   }
 };
 
-// The same decisions as TagUnderCoarseBand, one coarse cell at a time: its 2^3 children share one
-// walk of the triangle mesh's BVH (triangle_batch_nearest.hpp), which finds at every child centre
-// the nearest triangle that shape.nearest would (so the same tags, bit for bit). For shapes that
-// search a triangle mesh (triangle_mesh_of), on the host policies.
-template <class Shape>
-struct TagChildrenOfCoarseCells {
-  Shape shape;
+// The same decisions as TagUnderCoarseBand, one coarse cell at a time, from what the coarse
+// layer's distance stage computed for the children of its packages' cells
+// (SignedDistanceInPackages, level_set_layer.hpp: the same decide_cell on the nearest triangle
+// that shape.nearest would give, so the same tags, bit for bit). Host policies, triangle meshes.
+struct TagChildrenFromCoarsePackages {
   PackageGrid<3> grid, coarse_grid;
   View<const CellTag> coarse_tags;
+  View<const std::uint32_t> coarse_cell_package;
+  View<const CellTag> children_tag;  // of the coarse layer, 8 per package
   View<CellTag> tags;
   UNISPH_HOST_DEVICE void operator()(Index c) const {
     const Vec<int, 3> parent = coarse_grid.coordinates(c);
     const CellTag parent_tag = coarse_tags[c];
-    Vec<int, 3> child[8];
-    for (int j = 0; j < 8; ++j)
-      for (int k = 0; k < 3; ++k) child[j][k] = 2 * parent[k] + ((j >> k) & 1);
-    if (!has_package(parent_tag)) {
-      for (int j = 0; j < 8; ++j) tags[grid.linear(child[j])] = parent_tag;
-      return;
+    const bool decided = has_package(parent_tag);
+    const Index first = decided ? Index(coarse_cell_package[c]) * 8 : 0;
+    for (int j = 0; j < 8; ++j) {
+      Vec<int, 3> child;
+      for (int k = 0; k < 3; ++k) child[k] = 2 * parent[k] + ((j >> k) & 1);
+      tags[grid.linear(child)] = decided ? children_tag[first + j] : parent_tag;
     }
-    Vec<Real, 3> centre[8];
-    for (int j = 0; j < 8; ++j) centre[j] = grid.cell_centre(child[j]);
-    NearestTriangle nearest[8];
-    batch_nearest<8>(triangle_mesh_of(shape), coarse_grid.cell_centre(parent), centre, nearest);
-    for (int j = 0; j < 8; ++j) tags[grid.linear(child[j])] = decide_cell_from<3>(shape, grid, centre[j], nearest[j]);
   }
 };
 

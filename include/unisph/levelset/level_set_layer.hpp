@@ -7,10 +7,13 @@
 //
 // Built by MultiResolutionLevelSet, stage by stage, each stage a kernel on the chosen policy.
 
+#include <cmath>
 #include <cstdint>
+#include <limits>
 
 #include "unisph/exec/algorithms.hpp"
 #include "unisph/geometry/triangle_batch_nearest.hpp"
+#include "unisph/geometry/triangle_batch_winding.hpp"
 #include "unisph/grid/package_for.hpp"
 #include "unisph/grid/package_mesh.hpp"
 #include "unisph/levelset/kernel_integrals.hpp"
@@ -18,6 +21,7 @@
 #include "unisph/levelset/regularized_gradient.hpp"
 #include "unisph/levelset/shape_search.hpp"
 #include "unisph/memory/discrete_variable.hpp"
+#include "unisph/neighbor/uncontracted_arithmetic.hpp"
 
 namespace unisph {
 
@@ -25,12 +29,13 @@ namespace level_set_kernels {
 template <int D>
 struct FarFieldValues {
   View<Real> phi;
-  View<Vec<Real, D>> normal;
   Real distance;
-  UNISPH_HOST_DEVICE void operator()(Index i) const {
-    phi[i] = i < Index(package_points<D>) ? distance : -distance;
-    normal[i] = Vec<Real, D>{};
-  }
+  UNISPH_HOST_DEVICE void operator()(Index i) const { phi[i] = i < Index(package_points<D>) ? distance : -distance; }
+};
+template <int D>
+struct FarFieldNormals {
+  View<Vec<Real, D>> normal;
+  UNISPH_HOST_DEVICE void operator()(Index i) const { normal[i] = Vec<Real, D>{}; }
 };
 template <int D>
 struct FarFieldKernelIntegrals {
@@ -67,7 +72,15 @@ struct SignedDistanceAtDataPoints {
 // The same, one package at a time, for shapes that search a triangle mesh (on the host policies):
 // the package's 64 data points share one walk of the BVH and a vectorised float filter of the
 // candidate triangles (triangle_batch_nearest.hpp), which gives every point the nearest triangle
-// that shape.nearest would; the sign and phi are then computed as above.
+// that shape.nearest would; the sign and phi are then computed as above (the winding number's
+// sides of the 64 points in one walk too, triangle_batch_winding.hpp).
+//
+// With a finer layer (children_tag not empty) the batch also holds the centres of the cell's 8
+// children on that layer: their tags (decide_cell's, on the finer grid) and their squared
+// distances (rounded up to float) go to children_tag / children_distance2 at 8 * package + j,
+// child j = 2 * cell + (j & 1, j >> 1 & 1, j >> 2), so the finer layer's tagging reads them
+// (TagChildrenFromCoarsePackages) and its packages' batches start from them instead of a
+// nearest query at their centres (coarse_children_distance2 of the coarser layer; empty: query).
 template <class Shape>
 struct SignedDistanceInPackages {
   Shape shape;
@@ -76,21 +89,97 @@ struct SignedDistanceInPackages {
   View<const PackageType> package_type;
   View<const CellTag> cell_side;
   View<Real> phi;
+  PackageGrid<3> coarse_grid{};
+  View<const std::uint32_t> coarse_cell_package{};
+  View<const float> coarse_children_distance2{};
+  PackageGrid<3> fine_grid{};
+  View<CellTag> children_tag{};
+  View<float> children_distance2{};
+
   UNISPH_HOST_DEVICE void operator()(std::uint32_t package) const {
+    if (children_tag.size() > 0)
+      run<package_points<3> + 8>(package);
+    else
+      run<package_points<3>>(package);
+  }
+
+  template <int Points>
+  UNISPH_HOST_DEVICE void run(std::uint32_t package) const {
     constexpr int n = package_points<3>;
     const Index cell = package_cell[package];
     const Vec<int, 3> coordinates = grid.coordinates(cell);
-    Vec<Real, 3> x[n];
+    Vec<Real, 3> x[Points];
     for (int i = 0; i < n; ++i) x[i] = grid.data_position(coordinates, i);
-    NearestTriangle nearest[n];
-    batch_nearest<n>(triangle_mesh_of(shape), grid.cell_centre(coordinates), x, nearest);
+    for (int j = 0; j < Points - n; ++j) {
+      Vec<int, 3> child;
+      for (int k = 0; k < 3; ++k) child[k] = 2 * coordinates[k] + ((j >> k) & 1);
+      x[n + j] = fine_grid.cell_centre(child);
+    }
+    const Vec<Real, 3> centre = grid.cell_centre(coordinates);
+    const TriangleMeshSearchView& mesh = triangle_mesh_of(shape);
+    Real centre_squared_distance;
+    if (coarse_children_distance2.size() > 0) {
+      Vec<int, 3> parent;
+      int j = 0;
+      for (int k = 0; k < 3; ++k) parent[k] = coordinates[k] / 2, j |= (coordinates[k] & 1) << k;
+      centre_squared_distance = Real(coarse_children_distance2[Index(coarse_cell_package[coarse_grid.linear(parent)]) * 8 + j]);
+    } else {
+      centre_squared_distance = mesh.nearest(centre).squared_distance;
+    }
+    NearestTriangle nearest[Points];
+    batch_nearest<Points>(mesh, centre, centre_squared_distance, x, nearest);
     const bool core = package_type[package] == PackageType::core;
     const bool side_outside = cell_side[cell] != CellTag::inside;
-    for (int i = 0; i < n; ++i) {
-      const Real distance = std::sqrt(nearest[i].squared_distance);
-      const bool outside = core ? shape.sign(x[i], nearest[i]) > 0 : side_outside;
-      phi[Index(package) * n + i] = outside ? distance : -distance;
+    if constexpr (signs_by_winding_number<Shape>) {
+      bool inside[n];
+      if (core) batch_winding_inside<n>(mesh, centre, x, ~std::uint64_t(0), inside);
+      for (int i = 0; i < n; ++i) {
+        const Real distance = std::sqrt(nearest[i].squared_distance);
+        const bool outside = core ? !inside[i] : side_outside;
+        phi[Index(package) * n + i] = outside ? distance : -distance;
+      }
+    } else {
+      for (int i = 0; i < n; ++i) {
+        const Real distance = std::sqrt(nearest[i].squared_distance);
+        const bool outside = core ? shape.sign(x[i], nearest[i]) > 0 : side_outside;
+        phi[Index(package) * n + i] = outside ? distance : -distance;
+      }
     }
+    if constexpr (Points > n) {
+      // decide_cell_from on the finer grid, for the children.
+      const Real size = fine_grid.cell_size();
+      const Real size2 = uncontracted::mul(size, size);
+      bool inside[8] = {};
+      if constexpr (signs_by_winding_number<Shape>) {
+        std::uint64_t wanted = 0;
+        for (int j = 0; j < 8; ++j)
+          if (!(nearest[n + j].squared_distance < size2)) wanted |= std::uint64_t(1) << j;
+        batch_winding_inside<8>(mesh, centre, x + n, wanted, inside);
+      } else {
+        for (int j = 0; j < 8; ++j)
+          if (!(nearest[n + j].squared_distance < size2)) inside[j] = !(shape.sign(x[n + j], nearest[n + j]) > 0);
+      }
+      for (int j = 0; j < 8; ++j) {
+        const Index slot = Index(package) * 8 + j;
+        children_tag[slot] = nearest[n + j].squared_distance < size2 ? CellTag::core
+                             : inside[j]                             ? CellTag::inside
+                                                                     : CellTag::outside;
+        const Real d2 = nearest[n + j].squared_distance;
+        float bound = float(d2);
+        if (Real(bound) < d2) bound = std::nextafter(bound, std::numeric_limits<float>::infinity());
+        children_distance2[slot] = bound;
+      }
+    }
+  }
+};
+// kernel(package) once per package, launched over the data points (on the first of each): the
+// host policies' tasks are at least 2048 indices, here 32 packages, so that the coarse layers'
+// few, dear packages (a few thousand, 50 us each) are shared among the threads too.
+template <class F>
+struct OncePerPackage {
+  F kernel;
+  UNISPH_HOST_DEVICE void operator()(std::uint32_t package, int local_point) const {
+    if (local_point == 0) kernel(package);
   }
 };
 template <int D>
@@ -127,30 +216,55 @@ class LevelSetLayer {
   void allocate_packages(P policy) {
     mesh.allocate(policy, tags);
   }
+  // coarser: the layer above (its children_distance2 then serve as the centres' distances);
+  // finer: the next layer's grid (children_tag and children_distance2 are then filled). Both are
+  // used on the host policies with a triangle mesh only (SignedDistanceInPackages).
   template <ExecutionPolicy P, class Shape>
-  void compute_signed_distance(P policy, const Shape& shape) {
+  void compute_signed_distance(P policy, const Shape& shape, LevelSetLayer* coarser = nullptr,
+                               const PackageGrid<D>* finer = nullptr) {
     namespace k = level_set_kernels;
     phi.resize(packages() * package_points<D>);
-    normal.resize(packages() * package_points<D>);
     View<Real> values = phi.write(policy);
-    particle_for(policy, Index(far_field_packages) * package_points<D>,
-                 k::FarFieldValues<D>{values, normal.write(policy), far_field_distance});
-    if constexpr (D == 3 && P::space == MemorySpace::host && searches_triangle_mesh<Shape>)
-      package_for(policy, mesh,
-                  k::SignedDistanceInPackages<Shape>{shape, grid(), mesh.package_cell.read(policy),
-                                                     mesh.package_type.read(policy), cell_side.read(policy), values});
-    else
+    particle_for(policy, Index(far_field_packages) * package_points<D>, k::FarFieldValues<D>{values, far_field_distance});
+    if constexpr (D == 3 && P::space == MemorySpace::host && searches_triangle_mesh<Shape>) {
+      k::SignedDistanceInPackages<Shape> kernel{shape, grid(), mesh.package_cell.read(policy),
+                                                mesh.package_type.read(policy), cell_side.read(policy), values};
+      if (coarser != nullptr && coarser->children_distance2.size() > 0) {
+        kernel.coarse_grid = coarser->grid();
+        kernel.coarse_cell_package = coarser->mesh.cell_package.read(policy);
+        kernel.coarse_children_distance2 = coarser->children_distance2.read(policy);
+      }
+      if (finer != nullptr) {
+        children_tag.resize(packages() * 8);
+        children_distance2.resize(packages() * 8);
+        kernel.fine_grid = *finer;
+        kernel.children_tag = children_tag.write(policy);
+        kernel.children_distance2 = children_distance2.write(policy);
+      }
+      data_point_for(policy, mesh, k::OncePerPackage<k::SignedDistanceInPackages<Shape>>{kernel});
+    } else {
       data_point_for(policy, mesh,
                      k::SignedDistanceAtDataPoints<D, Shape>{shape, grid(), mesh.package_cell.read(policy),
                                                              mesh.package_type.read(policy), cell_side.read(policy),
                                                              values});
+    }
     fence(policy);
   }
+  // The normals' array is allocated here on the first call (its far-field packages zero), not
+  // with phi: the distance stage does not pay for it.
   template <ExecutionPolicy P>
   void compute_normals(P policy) {
+    View<Vec<Real, D>> values;
+    if (normal.size() != packages() * package_points<D>) {
+      normal.resize(packages() * package_points<D>);
+      values = normal.write(policy);
+      particle_for(policy, Index(far_field_packages) * package_points<D>, level_set_kernels::FarFieldNormals<D>{values});
+    } else {
+      values = normal.read_write(policy);
+    }
     data_point_for(policy, mesh,
-                   level_set_kernels::NormalFromPhi<D>{phi.read(policy), mesh.neighbourhood.read(policy),
-                                                       normal.read_write(policy), grid().data_spacing});
+                   level_set_kernels::NormalFromPhi<D>{phi.read(policy), mesh.neighbourhood.read(policy), values,
+                                                       grid().data_spacing});
     fence(policy);
   }
 
@@ -196,6 +310,10 @@ class LevelSetLayer {
   PackageMesh<D> mesh;
   DiscreteVariable<CellTag> tags;       // outside, inside, inner or core
   DiscreteVariable<CellTag> cell_side;  // before inner tagging: core, or the side of a cell without surface
+  // Host policies, triangle meshes: per package, the next layer's tags of its cell's 8 children and
+  // their centres' squared distances (SignedDistanceInPackages); dropped once that layer is built.
+  DiscreteVariable<CellTag> children_tag{"LevelSetChildrenTag"};
+  DiscreteVariable<float> children_distance2{"LevelSetChildrenDistance2"};
   DiscreteVariable<Real> phi{"LevelSetPhi"};
   DiscreteVariable<Vec<Real, D>> normal{"LevelSetNormal"};
   DiscreteVariable<Real> kernel_weight{"LevelSetKernelWeight"};

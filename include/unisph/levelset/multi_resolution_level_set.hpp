@@ -12,7 +12,8 @@
 //              at the grid border outside, the others by a vote of their cells' signs), so the
 //              inside is closed even where the surface leaks and 2D holes and 3D cavities are
 //              right (outside_flood_fill.hpp); finer layers: only the children of
-//              coarse cells with packages are evaluated, the others inherit their parent's side;
+//              coarse cells with packages are evaluated, the others inherit their parent's side
+//              (on the host with a triangle mesh the coarse layer's distance stage decided them);
 //              then inner cells around the core
 //   packages   allocation sorted by Morton key (same layout on every policy and run), the
 //              neighbourhood tables
@@ -144,8 +145,9 @@ class MultiResolutionLevelSet {
       LevelSetLayer<D>& coarse = *layers_[level - 1];
       if constexpr (D == 3 && P::space == MemorySpace::host && searches_triangle_mesh<Shape>)
         particle_for(policy, coarse.grid().cell_count(),
-                     TagChildrenOfCoarseCells<Shape>{shape, grid, coarse.grid(), coarse.tags.read(policy),
-                                                     decided.write(policy)});
+                     TagChildrenFromCoarsePackages{grid, coarse.grid(), coarse.tags.read(policy),
+                                                   coarse.mesh.cell_package.read(policy),
+                                                   coarse.children_tag.read(policy), decided.write(policy)});
       else
         particle_for(policy, cells,
                      TagUnderCoarseBand<D, Shape>{shape, grid, coarse.grid(), coarse.tags.read(policy),
@@ -161,7 +163,16 @@ class MultiResolutionLevelSet {
     auto t1 = Clock::now();
     layer.allocate_packages(policy);
     auto t2 = Clock::now();
-    layer.compute_signed_distance(policy, shape);
+    // On the host with a triangle mesh the distance stage also decides the next layer's cells
+    // under this layer's packages (SignedDistanceInPackages), and starts from the distances the
+    // layer above found for this layer's cell centres.
+    const PackageGrid<D> finer = level + 1 < levels() ? layers_[level + 1]->grid() : PackageGrid<D>{};
+    layer.compute_signed_distance(policy, shape, level > 0 ? layers_[level - 1].get() : nullptr,
+                                  level + 1 < levels() ? &finer : nullptr);
+    if (level > 0) {
+      layers_[level - 1]->children_tag.resize(0);
+      layers_[level - 1]->children_distance2.resize(0);
+    }
     auto t3 = Clock::now();
     layer.compute_normals(policy);
     auto t4 = Clock::now();

@@ -32,6 +32,13 @@ inline constexpr bool searches_triangle_mesh<TriangleMeshSearchView> = true;
 template <>
 inline constexpr bool searches_triangle_mesh<WindingNumberSign<TriangleMeshSearchView>> = true;
 
+// Shapes whose sign is the triangle mesh's winding number (so that kernels may decide it for a
+// batch of points at once, triangle_batch_winding.hpp).
+template <class Shape>
+inline constexpr bool signs_by_winding_number = false;
+template <>
+inline constexpr bool signs_by_winding_number<WindingNumberSign<TriangleMeshSearchView>> = true;
+
 UNISPH_HOST_DEVICE inline const TriangleMeshSearchView& triangle_mesh_of(const TriangleMeshSearchView& s) { return s; }
 UNISPH_HOST_DEVICE inline const TriangleMeshSearchView& triangle_mesh_of(const WindingNumberSign<TriangleMeshSearchView>& s);
 
