@@ -48,6 +48,10 @@ struct ContainerTraits<Supercell<F>> {
   using ChildContainer = F;
   using Cursor = Index;  // pool index of a frame; no_frame past either end
   static constexpr bool needs_runtime_size = true;
+  // A supercell's frame count fits 32 bits: its level is walked with 32-bit positions. With 64-bit
+  // ones, nvcc kept fewer loads in flight in the particle loop of a thread walking a whole supercell
+  // (views_bench all_particles/for_each on an H100: 1.80 times the hand loop; 0.98 with this).
+  static constexpr bool small_positions = true;
 
   UNISPH_HOST_DEVICE static constexpr Handle empty_handle() { return Handle{}; }
   UNISPH_HOST_DEVICE static constexpr Index size(const Handle& h) { return h.header.frame_count; }
