@@ -18,8 +18,8 @@
 namespace unisph::iter {
 
 // f(j, pair) for every neighbour j of source i: the engine's direct search, which is this walk
-// (NeighborSearch::for_each_direct_neighbor: for_each_stencil_row, each row's view walked with the
-// cutoff test on each candidate).
+// (NeighborSearch::for_each_direct_neighbor: for_each_stencil_row, each row's places a counted loop
+// with the cutoff test on each candidate).
 template <class T, int D, class F>
 UNISPH_HOST_DEVICE inline void for_each_neighbor(const NeighborSearch<T, D>& search, Index i, F&& f) {
   search.for_each_direct_neighbor(i, f);
