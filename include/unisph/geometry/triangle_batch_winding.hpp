@@ -92,6 +92,20 @@ inline winding_lanes winding_atan2(winding_lanes y, winding_lanes x, winding_lan
   return y < zero ? -p : p;
 }
 
+// Four consecutive points (one vector lane each) and their L1 norms, loaded from the
+// structure-of-arrays copies at `first`.
+struct winding_group {
+  winding_lanes x, y, z, norm;
+};
+inline winding_group load_winding_group(const float* px, const float* py, const float* pz, const float* pn, int first) {
+  winding_group g;
+  std::memcpy(&g.x, px + first, sizeof(winding_lanes));
+  std::memcpy(&g.y, py + first, sizeof(winding_lanes));
+  std::memcpy(&g.z, pz + first, sizeof(winding_lanes));
+  std::memcpy(&g.norm, pn + first, sizeof(winding_lanes));
+  return g;
+}
+
 inline winding_mask winding_lane_mask(unsigned bits) {
   return winding_mask{-std::int32_t(bits & 1u), -std::int32_t((bits >> 1) & 1u), -std::int32_t((bits >> 2) & 1u),
                       -std::int32_t((bits >> 3) & 1u)};
@@ -189,11 +203,8 @@ UNISPH_HOST_DEVICE void batch_winding_inside(const TriangleMeshSearchView& searc
         const unsigned bits = unsigned(far >> (4 * g)) & 15u;
         if (bits == 0) continue;
         const detail::winding_mask lanes = detail::winding_lane_mask(bits);
-        F X, Y, Z, N1;
-        std::memcpy(&X, px + 4 * g, sizeof(F));
-        std::memcpy(&Y, py + 4 * g, sizeof(F));
-        std::memcpy(&Z, pz + 4 * g, sizeof(F));
-        std::memcpy(&N1, pn + 4 * g, sizeof(F));
+        const detail::winding_group p = detail::load_winding_group(px, py, pz, pn, 4 * g);
+        const F X = p.x, Y = p.y, Z = p.z, N1 = p.norm;
         const F rx = cx - X, ry = cy - Y, rz = cz - Z;
         const F d2 = rx * rx + ry * ry + rz * rz;
         const F d = detail::winding_sqrt(d2);
@@ -228,11 +239,8 @@ UNISPH_HOST_DEVICE void batch_winding_inside(const TriangleMeshSearchView& searc
         const unsigned bits = unsigned(near >> (4 * g)) & 15u;
         if (bits == 0) continue;
         const detail::winding_mask lanes = detail::winding_lane_mask(bits);
-        F X, Y, Z, N1;
-        std::memcpy(&X, px + 4 * g, sizeof(F));
-        std::memcpy(&Y, py + 4 * g, sizeof(F));
-        std::memcpy(&Z, pz + 4 * g, sizeof(F));
-        std::memcpy(&N1, pn + 4 * g, sizeof(F));
+        const detail::winding_group p = detail::load_winding_group(px, py, pz, pn, 4 * g);
+        const F X = p.x, Y = p.y, Z = p.z, N1 = p.norm;
         const F xx = q[0][0] - X, xy = q[0][1] - Y, xz = q[0][2] - Z;
         const F yx = q[1][0] - X, yy = q[1][1] - Y, yz = q[1][2] - Z;
         const F zx = q[2][0] - X, zy = q[2][1] - Y, zz = q[2][2] - Z;

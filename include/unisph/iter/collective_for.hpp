@@ -114,6 +114,19 @@ __global__ void __launch_bounds__(TeamSize * TeamsPerBlock) team_kernel(Index gr
 template <Index TeamSize>
 inline constexpr Index device_teams_per_block = TeamSize >= 256 ? 1 : 256 / TeamSize;
 
+// A device launch in a translation unit that cannot make one: a CUDA build compiled this file
+// with the host compiler (a build error), or the build has no CUDA (a run-time error).
+template <class K>
+void device_launch_outside_nvcc() {
+#if UNISPH_HAS_CUDA
+  static_assert(backend::dependent_false_v<K>,
+                "collective_for(par_device, ...) launches a GPU kernel, so this source file must be compiled by nvcc: "
+                "list it in unisph_kernel_sources() in CMake (or give it LANGUAGE CUDA).");
+#else
+  require_policy(PolicyKind::device);
+#endif
+}
+
 }  // namespace detail
 
 inline constexpr Index max_device_team_size = 1024;
@@ -141,12 +154,8 @@ void collective_for(P, Index groups, Index team_size, const K& kernel) {
     detail::collective_kernel<<<static_cast<unsigned>(blocks), static_cast<unsigned>(team_size), 0,
                                 static_cast<cudaStream_t>(cuda::stream_handle())>>>(groups, kernel);
     cuda::check_launch("collective_for", groups);
-#elif UNISPH_HAS_CUDA
-    static_assert(backend::dependent_false_v<K>,
-                  "collective_for(par_device, ...) launches a GPU kernel, so this source file must be compiled by nvcc: "
-                  "list it in unisph_kernel_sources() in CMake (or give it LANGUAGE CUDA).");
 #else
-    require_policy(PolicyKind::device);
+    detail::device_launch_outside_nvcc<K>();
 #endif
   }
 }
@@ -170,12 +179,8 @@ void collective_for(P policy, Index groups, const K& kernel) {
     detail::team_kernel<TeamSize, teams><<<static_cast<unsigned>(blocks), static_cast<unsigned>(TeamSize * teams), 0,
                                            static_cast<cudaStream_t>(cuda::stream_handle())>>>(groups, kernel);
     cuda::check_launch("collective_for<TeamSize>", groups);
-#elif UNISPH_HAS_CUDA
-    static_assert(backend::dependent_false_v<K>,
-                  "collective_for(par_device, ...) launches a GPU kernel, so this source file must be compiled by nvcc: "
-                  "list it in unisph_kernel_sources() in CMake (or give it LANGUAGE CUDA).");
 #else
-    require_policy(PolicyKind::device);
+    detail::device_launch_outside_nvcc<K>();
 #endif
   }
 }

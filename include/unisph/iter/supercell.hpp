@@ -65,6 +65,15 @@ struct ContainerTraits<Supercell<F>> {
       for (; k > 0; --k) frame = h.frames[frame].previous;
     return frame;
   }
+  // The links of a frame (next and previous, side by side), fetched ahead while the work on the
+  // frame goes on; the view's next step reads them. `frame` holds an element.
+  UNISPH_HOST_DEVICE static void prefetch_step(const Handle& h, Cursor frame) {
+#if !UNISPH_DEVICE_CODE
+    __builtin_prefetch(&h.frames[frame].next);
+#else
+    (void)h, (void)frame;
+#endif
+  }
   UNISPH_HOST_DEVICE static constexpr Cursor start(const Handle& h, Index position, bool forward) {
     return step(h, forward ? h.header.first_frame : h.header.last_frame, position, forward);
   }

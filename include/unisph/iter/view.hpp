@@ -402,6 +402,12 @@ class View : public std::ranges::view_base {
       for (; !walk.at_end(); walk.advance()) f(slot_type());
     } else {
       for (Walk walk = start(); !walk.at_end(); walk.advance()) {
+        // Along a list a jump of k costs k dependent loads after this trip's work. Where the walk
+        // skips elements, the first link is fetched ahead while the work goes on (views_bench's
+        // strided walk on the 2-core VM: 1.41 -> 1.01 of the hand loop); with jump 1 the link
+        // follows the element's own data and fetching it ahead made the walk slower (1.14).
+        if constexpr (requires { Traits::prefetch_step(walk.handle, walk.stored_cursor); })
+          if (walk.jump > 1 && walk.holds_element()) Traits::prefetch_step(walk.handle, walk.stored_cursor);
         if constexpr (dense && has_child) {
           child_.rebind(Traits::child(walk.handle, walk.cursor())).for_each(f);
         } else if constexpr (dense) {

@@ -60,7 +60,7 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
       const PairKernelDerivative<T, D> derivative{kernel};  // dW/dr, cached in stored lists
       for_each_neighbor_record(inner, position_volume, i, derivative,
                                [&](Index j, const PositionVolume<T, D>& r_j, const NeighborPair<T, D>& pair, T dW) {
-                                 const VelocityPressureRead<T, D> s_j = velocity_pressure[j];
+                                 VelocityPressureRead<T, D> s_j = velocity_pressure[j];
                                  const Vec<T, D>& e = pair.direction();
                                  const T divergence = dot(v_i - s_j.velocity, e) +
                                                       dissipation * riemann.velocity_dissipation(p_i, s_j.pressure);

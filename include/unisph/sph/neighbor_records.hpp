@@ -28,9 +28,11 @@ namespace unisph::sph {
 // reference: with the copy the 2D dam break's seq pressure pass ran 13 % slower than with the
 // former scalar reads (measured; likely GCC copies the aligned record through the stack), with
 // the reference as fast or faster.
+// Either way the alias carries the const, so the kernels write no qualifier of their own (a
+// `const` on a reference type draws nvcc's "type qualifiers are meaningless" warning).
 #if UNISPH_DEVICE_CODE
 template <class T, int D>
-using VelocityPressureRead = VelocityPressure<T, D>;
+using VelocityPressureRead = const VelocityPressure<T, D>;
 #else
 template <class T, int D>
 using VelocityPressureRead = const VelocityPressure<T, D>&;
