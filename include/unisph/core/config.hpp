@@ -13,6 +13,17 @@
 #define UNISPH_DEVICE
 #endif
 
+// Inlined wherever it is called, whatever the optimiser's cost model says. For the few small
+// functions whose only effect the optimiser cannot see (a prefetch: GCC 12 took a function that
+// only prefetches as free of effects and dropped the calls to it).
+#if defined(__CUDACC__)
+#define UNISPH_ALWAYS_INLINE __forceinline__
+#elif defined(__GNUC__)
+#define UNISPH_ALWAYS_INLINE inline __attribute__((always_inline))
+#else
+#define UNISPH_ALWAYS_INLINE inline
+#endif
+
 // True while nvcc compiles the device side of a translation unit.
 #if defined(__CUDA_ARCH__)
 #define UNISPH_DEVICE_CODE 1

@@ -67,7 +67,7 @@ struct ContainerTraits<Supercell<F>> {
   }
   // The links of a frame (next and previous, side by side), fetched ahead while the work on the
   // frame goes on; the view's next step reads them. `frame` holds an element.
-  UNISPH_HOST_DEVICE static void prefetch_step(const Handle& h, Cursor frame) {
+  UNISPH_ALWAYS_INLINE UNISPH_HOST_DEVICE static void prefetch_step(const Handle& h, Cursor frame) {
 #if !UNISPH_DEVICE_CODE
     __builtin_prefetch(&h.frames[frame].next);
 #else
