@@ -149,7 +149,7 @@ struct BatchFilterScalar {
     return a > b ? a : b;
   }
 };
-#if defined(__GNUC__) && !defined(__CUDACC__)
+#if defined(__GNUC__) && !defined(__CUDA_ARCH__)
 #define UNISPH_BATCH_FILTER_LANES 4
 typedef float batch_filter_lanes __attribute__((vector_size(16)));
 #else

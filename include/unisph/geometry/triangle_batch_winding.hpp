@@ -40,7 +40,7 @@
 #include "unisph/geometry/triangle_mesh_search_view.hpp"
 #include "unisph/geometry/winding_number.hpp"
 
-#if defined(__GNUC__) && !defined(__CUDACC__)
+#if defined(__GNUC__) && !defined(__CUDA_ARCH__)
 #define UNISPH_BATCH_WINDING_VECTOR 1
 #if defined(__SSE__)
 #include <xmmintrin.h>
