@@ -4,6 +4,7 @@
 // with the indices a plain loop gives, in 2D and 3D, on meshes whose package count does not fill
 // whole CUDA blocks, and on empty meshes (never allocated, or no cell with a package).
 #include <cstdint>
+#include <initializer_list>
 #include <string>
 #include <vector>
 
@@ -97,28 +98,29 @@ void check_loops(P policy, PackageMesh<D>& mesh, const std::string& where) {
 
 UNISPH_POLICY_TEST_SUITE(PackageLoops);
 
-TYPED_TEST(PackageLoops, VisitEveryPackageAndDataPointOnceIn3D) {
-  // Package counts around and not on multiples of the 4 teams of a CUDA block.
-  for (const double r : {0.6, 1.2, 2.5, 4.0}) {
-    PackageMesh<3> mesh(PackageGrid<3>{Vec<Real, 3>{{-1.0, 0.0, 0.5}}, Real(0.125), Vec<int, 3>{{13, 11, 9}}});
+// check_loops over the packages of balls of the given radii on `grid`.
+template <int D, class P>
+void check_balls(P policy, const PackageGrid<D>& grid, std::initializer_list<double> radii) {
+  for (const double r : radii) {
+    PackageMesh<D> mesh(grid);
     DiscreteVariable<CellTag> tags("Tags");
     tags.assign(ball_tags(mesh.grid(), r));
-    mesh.allocate(this->policy, tags);
+    mesh.allocate(policy, tags);
     ASSERT_GT(mesh.data_packages(), Index(0));
-    check_loops(this->policy, mesh, "3D, r = " + std::to_string(r) + ", " + std::to_string(mesh.data_packages()) + " packages");
+    check_loops(policy, mesh,
+                std::to_string(D) + "D, r = " + std::to_string(r) + ", " + std::to_string(mesh.data_packages()) + " packages");
   }
+}
+
+TYPED_TEST(PackageLoops, VisitEveryPackageAndDataPointOnceIn3D) {
+  // Package counts around and not on multiples of the 4 teams of a CUDA block.
+  check_balls(this->policy, PackageGrid<3>{Vec<Real, 3>{{-1.0, 0.0, 0.5}}, Real(0.125), Vec<int, 3>{{13, 11, 9}}},
+              {0.6, 1.2, 2.5, 4.0});
 }
 
 TYPED_TEST(PackageLoops, VisitEveryPackageAndDataPointOnceIn2D) {
   // 2D packages have 16 points: 16 teams of 16 per CUDA block.
-  for (const double r : {0.6, 2.0, 5.5}) {
-    PackageMesh<2> mesh(PackageGrid<2>{Vec<Real, 2>{{0.0, -1.0}}, Real(0.25), Vec<int, 2>{{17, 15}}});
-    DiscreteVariable<CellTag> tags("Tags");
-    tags.assign(ball_tags(mesh.grid(), r));
-    mesh.allocate(this->policy, tags);
-    ASSERT_GT(mesh.data_packages(), Index(0));
-    check_loops(this->policy, mesh, "2D, r = " + std::to_string(r) + ", " + std::to_string(mesh.data_packages()) + " packages");
-  }
+  check_balls(this->policy, PackageGrid<2>{Vec<Real, 2>{{0.0, -1.0}}, Real(0.25), Vec<int, 2>{{17, 15}}}, {0.6, 2.0, 5.5});
 }
 
 TYPED_TEST(PackageLoops, VisitNothingOnEmptyMeshes) {
