@@ -136,11 +136,15 @@ template <class T, int D>
 int run_case(const sph::CaseDescription& description, PolicyKind kind, const RunOptions& options) {
   using Solver = sph::WeaklyCompressibleSolver<T, D>;
   const auto start = std::chrono::steady_clock::now();
-  Solver solver(description, kind);
+  const bool restarted = !options.restart.empty();
+  // A restarted run takes its settled state from the checkpoint.
+  if (!restarted && description.settling_time > 0 && !options.quiet)
+    std::fprintf(stderr, "settling: %g time units with the velocity damped at %g per unit of time...\n", description.settling_time,
+                description.settling_damping);
+  Solver solver(description, kind, !restarted);
   RunState run;
   run.next_output = description.output_interval;
   run.next_checkpoint = description.checkpoint_every;
-  const bool restarted = !options.restart.empty();
   if (restarted) {
     run = RunState::decode(solver.restore_checkpoint(options.restart), options.restart);
     // The checkpoint interval may have been changed for the restarted run.
@@ -259,6 +263,9 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
         << description.obstacles[k].file;
   if (!description.obstacles.empty())
     log << "\nfluid particles removed by the obstacles: " << solver.removed_fluid_count();
+  if (const sph::SettlingReport& settled = solver.settling(); settled.advection_steps > 0)
+    log << "\nsettling before t = 0: " << settled.time << " time units, " << settled.advection_steps
+        << " advection and " << settled.acoustic_steps << " acoustic steps, " << settled.seconds << " s";
   log
       << "\nsimulated time: " << solver.time() << " of " << end_time
       << "\nadvection steps: " << solver.advection_steps() << "\nacoustic steps: " << solver.acoustic_steps()

@@ -21,6 +21,8 @@ void write_case(io::CheckpointWriter& out, const CaseDescription& c) {
   out.u32(c.continuity_dissipation ? 1 : 0);
   out.f64(c.gravity);
   out.u32(c.hydrostatic ? 1 : 0);
+  out.f64(c.settling_time);
+  out.f64(c.settling_damping);
   out.f64(c.end_time);
   out.f64(c.output_interval);
   out.u32(std::uint32_t(c.sort_every));
@@ -59,6 +61,8 @@ CaseDescription read_case(io::CheckpointReader& in) {
   c.continuity_dissipation = in.u32() != 0;
   c.gravity = in.f64();
   c.hydrostatic = in.u32() != 0;
+  c.settling_time = in.f64();
+  c.settling_damping = in.f64();
   c.end_time = in.f64();
   c.output_interval = in.f64();
   c.sort_every = int(in.u32());

@@ -152,6 +152,13 @@ TEST(HostSphCaseFile, ReadsAValidCase) {
   ASSERT_EQ(c.probes.size(), 1u);
   EXPECT_EQ(c.probes[0].position[1], 0.1);
   EXPECT_EQ(c.output_interval, 0.01);
+  EXPECT_EQ(c.settling_time, 0.0);
+  const CaseDescription settled = parse_case(replaced(valid_case, "[physics]", "[initial]\nsettling_time = 3.0\n[physics]"), "case.toml");
+  EXPECT_EQ(settled.settling_time, 3.0);
+  EXPECT_EQ(settled.settling_damping, 2.0 / (2 * 0.5)) << "by default U over twice the column's height";
+  const CaseDescription damped = parse_case(
+      replaced(valid_case, "[physics]", "[initial]\nsettling_time = 3.0\nsettling_damping = 0.5\n[physics]"), "case.toml");
+  EXPECT_EQ(damped.settling_damping, 0.5);
 }
 
 TEST(HostSphCaseFile, OneLineErrorsNameFileLineAndKey) {
@@ -164,6 +171,12 @@ TEST(HostSphCaseFile, OneLineErrorsNameFileLineAndKey) {
       {replaced(valid_case, "column = [1.0, 0.5]", "column = [3.0, 0.5]"), "case.toml:8: key 'geometry.column': the column"},
       {replaced(valid_case, "tank = [2.0, 1.5]", "tank = [2.0]"), "case.toml:7: key 'geometry.tank': must have 2 entries"},
       {replaced(valid_case, "end = 0.5", "end = 0.5 0.6"), "case.toml:16: not valid TOML"},
+      {replaced(valid_case, "[physics]", "[initial]\nsettling_time = -1.0\n[physics]"),
+       "case.toml:14: key 'initial.settling_time': must not be negative"},
+      {replaced(valid_case, "[physics]", "[initial]\nsettling_damping = 1.0\n[physics]"),
+       "case.toml:14: key 'initial.settling_damping': needs initial.settling_time > 0"},
+      {replaced(valid_case, "[physics]", "[initial]\nsettling_time = 1.0\nsettling_damping = 0\n[physics]"),
+       "case.toml:15: key 'initial.settling_damping': must be positive"},
       // Inputs on which toml++ 3.x itself goes wrong (found by fuzz/case_fuzzer.cpp):
       {replaced(valid_case, "[physics]", "[ (physics)]"), "case.toml:13: not valid TOML: a table header must start"},
       {replaced(valid_case, "[physics]", "[\n"), "case.toml:13: not valid TOML: a table header must start"},
@@ -268,7 +281,9 @@ TYPED_TEST(SphSolver, DirectSearchThroughNeighborRecordsAgreesWithSeq) {
               "the tank size (bound 1e-9)\n",
               std::string(TypeParam::test_label).c_str(), relative);
   EXPECT_LE(relative, 1e-9);
-  if (kind == PolicyKind::par) EXPECT_EQ(relative, 0.0) << "par reproduces seq bit for bit";
+  if (kind == PolicyKind::par) {
+    EXPECT_EQ(relative, 0.0) << "par reproduces seq bit for bit";
+  }
   EXPECT_EQ(solver.observe().mass, mass0);
 }
 
@@ -321,4 +336,50 @@ TYPED_TEST(SphSolver, FloatRunsAndWaterAtRestStaysAtRest) {
   std::printf("[ measured ] hydrostatic tank after t = 1 on %s (float): kinetic / potential energy %.3e (sanity bound 1e-2)\n",
               std::string(TypeParam::test_label).c_str(), s.kinetic_energy / s.potential_energy);
   EXPECT_LT(s.kinetic_energy, 1e-2 * s.potential_energy);
+}
+
+// The settling stage (initial.settling_time): the water is moved under damping before time 0,
+// then starts at rest from where it came to, with the clock and the step counters at 0. Its
+// steps are the solver's own, so par reproduces seq bit for bit and the device within round-off.
+TYPED_TEST(SphSolver, SettlingStartsAtRestAtTimeZeroAndAgreesWithSeq) {
+  const PolicyKind kind = TypeParam::space == MemorySpace::device ? PolicyKind::device
+                          : std::is_same_v<TypeParam, SequencedPolicy> ? PolicyKind::seq
+                                                                       : PolicyKind::par;
+  CaseDescription c = small_dam_break();
+  c.dx = 0.1;
+  c.tank = {2.0, 1.5};
+  c.column = {2.0, 1.0};
+  c.hydrostatic = true;
+  c.probes.clear();
+  c.settling_time = 2.0;
+  c.settling_damping = 1.0;
+  CaseDescription unsettled = c;
+  unsettled.settling_time = 0;
+  WeaklyCompressibleSolver<double, 2> lattice(unsettled, PolicyKind::seq);
+  WeaklyCompressibleSolver<double, 2> reference(c, PolicyKind::seq);
+  WeaklyCompressibleSolver<double, 2> solver(c, kind);
+  EXPECT_EQ(solver.time(), 0.0);
+  EXPECT_EQ(solver.advection_steps(), 0u);
+  EXPECT_EQ(solver.acoustic_steps(), 0u);
+  EXPECT_GE(solver.settling().time, c.settling_time * (1 - 1e-12));
+  EXPECT_GT(solver.settling().acoustic_steps, solver.settling().advection_steps);
+  EXPECT_EQ(solver.settling().advection_steps, reference.settling().advection_steps);
+  EXPECT_EQ(lattice.settling().advection_steps, 0u);
+  for (const auto& v : solver.fluid_body().particles().template variable<Vec<double, 2>>("Velocity").to_vector())
+    ASSERT_TRUE(v[0] == 0.0 && v[1] == 0.0) << "the settled water starts at rest";
+  EXPECT_EQ(solver.observe().mass, lattice.observe().mass) << "settling keeps every particle's mass";
+  const auto x = positions_by_id(solver), x_seq = positions_by_id(reference), x_lattice = positions_by_id(lattice);
+  double from_seq = 0, from_lattice = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    from_seq = std::max(from_seq, norm(x[i] - x_seq[i]) / c.tank[0]);
+    from_lattice = std::max(from_lattice, norm(x[i] - x_lattice[i]));
+  }
+  std::printf("[ measured ] settling on %s: largest move from the lattice %.3e dx; from seq %.2e of the tank\n",
+              std::string(TypeParam::test_label).c_str(), from_lattice / c.dx, from_seq);
+  EXPECT_GT(from_lattice, 1e-3 * c.dx) << "the water settled somewhere";
+  if (kind == PolicyKind::device) {
+    EXPECT_LE(from_seq, 1e-9);
+  } else {
+    EXPECT_EQ(from_seq, 0.0);
+  }
 }

@@ -40,6 +40,11 @@ struct CaseDescription {
   double gravity = 0;  // |g|, acting along -y
   // [initial]
   bool hydrostatic = false;  // start from the hydrostatic pressure and density
+  // Settling before time 0 (docs/sph.md, "Settling"): the water moves under the case's forces
+  // with its velocity damped at `settling_damping` (1/time) for `settling_time`, then starts
+  // from where it came to rest, at rest. 0: no settling.
+  double settling_time = 0;
+  double settling_damping = 0;
   // [time]
   double end_time = 0;
   double output_interval = 0;

@@ -1,6 +1,6 @@
 #pragma once
 // The layout of a solver checkpoint inside the checkpoint container (io/checkpoint_file.hpp),
-// format version 3:
+// format version 4:
 //
 //   "run"        dimension (u32), bytes of the floating type (u32), "float" or "double"
 //   "case"       every field of the CaseDescription (obstacles: resolved file, translation, line)
@@ -22,8 +22,9 @@
 
 namespace unisph::sph {
 
-// 2: time.cells_per_cutoff; 3: obstacles (older versions are refused with one line).
-inline constexpr std::uint32_t solver_checkpoint_version = 3;
+// 2: time.cells_per_cutoff; 3: obstacles; 4: initial.settling_* (older versions are refused
+// with one line).
+inline constexpr std::uint32_t solver_checkpoint_version = 4;
 
 void write_case(io::CheckpointWriter& out, const CaseDescription& c);
 CaseDescription read_case(io::CheckpointReader& in);

@@ -46,13 +46,23 @@ struct PairCounts {
   std::uint64_t neighbor_pairs = 0;
 };
 
+// What the settling stage before time 0 took (case_description.hpp, initial.settling_time).
+struct SettlingReport {
+  double time = 0;  // simulated
+  std::uint64_t advection_steps = 0;
+  std::uint64_t acoustic_steps = 0;
+  double seconds = 0;  // wall
+};
+
 template <class T, int D>
 class WeaklyCompressibleSolver {
  public:
   static_assert(std::is_floating_point_v<T>, "The solver computes in float or double.");
   static_assert(D == 2 || D == 3, "The solver is built for 2D and 3D cases.");
 
-  WeaklyCompressibleSolver(const CaseDescription& description, PolicyKind policy);
+  // Makes the particles and, where the case asks for it, settles them (initial.settling_time).
+  // `settle` = false skips the settling: for a solver whose state a checkpoint restores next.
+  WeaklyCompressibleSolver(const CaseDescription& description, PolicyKind policy, bool settle = true);
   ~WeaklyCompressibleSolver();
   WeaklyCompressibleSolver(const WeaklyCompressibleSolver&) = delete;
   WeaklyCompressibleSolver& operator=(const WeaklyCompressibleSolver&) = delete;
@@ -64,6 +74,7 @@ class WeaklyCompressibleSolver {
   double time() const;
   std::uint64_t advection_steps() const;
   std::uint64_t acoustic_steps() const;
+  const SettlingReport& settling() const;
   Index fluid_count() const;
   Index wall_count() const;  // the tank's wall and the obstacles'
   // Wall particles of each obstacle of the case; the wall body's particle ids are the tank's

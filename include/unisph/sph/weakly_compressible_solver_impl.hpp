@@ -2,6 +2,7 @@
 // Definitions of WeaklyCompressibleSolver, included only by the library's instantiation
 // files (src/sph/), which nvcc compiles where CUDA is on.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <sstream>
 
@@ -23,6 +24,7 @@
 #include "unisph/sph/prior_acceleration.hpp"
 #include "unisph/sph/tank_particles.hpp"
 #include "unisph/sph/time_step.hpp"
+#include "unisph/sph/velocity_damping.hpp"
 #include "unisph/sph/wall_free_box.hpp"
 #include "unisph/sph/weakly_compressible_solver.hpp"
 
@@ -76,7 +78,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
     return p;
   }
 
-  State(const CaseDescription& c, PolicyKind kind)
+  State(const CaseDescription& c, PolicyKind kind, bool settle_now)
       : description(checked(c)),
         policy(kind),
         kernel(WendlandC2Kernel<T, D>::from_spacing(T(c.dx))),
@@ -108,6 +110,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
         density_update(fluid),
         max_speed(fluid),
         velocity_update_and_max_speed(velocity_update, max_speed),
+        velocity_damping(fluid),
         density_update_and_start(density_update, pressure_start),
         refresh_records(fluid),
         front(fluid, 0, T(c.dx)),
@@ -122,6 +125,31 @@ struct WeaklyCompressibleSolver<T, D>::State {
       probes.push_back(std::make_unique<PressureProbe<T, D>>(fluid, kernel, x));
     }
     initialise();
+    if (settle_now) settle();
+  }
+
+  // The settling stage (case_description.hpp): the run's own steps with the velocity damped,
+  // until settling_time; then the water starts at rest from there, at time 0, step 0.
+  void settle() {
+    if (!(description.settling_time > 0)) return;
+    const auto start = std::chrono::steady_clock::now();
+    damping_rate = description.settling_damping;
+    while (time < description.settling_time * (1 - 1e-12)) advance(description.settling_time);
+    damping_rate = 0;
+    {
+      View<Vector> v = fluid.velocity.write(MemorySpace::host);
+      View<T> drho = fluid.density_change_rate.write(MemorySpace::host);
+      for (Index i = 0; i < v.size(); ++i) {
+        v[i] = Vector{};
+        drho[i] = T(0);
+      }
+    }
+    visit_policy(policy, [&](auto p) { refresh_records.exec(p); });
+    settling = {time, advection_steps, acoustic_steps,
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()};
+    time = 0;
+    advection_steps = 0;
+    acoustic_steps = 0;
   }
 
   void initialise() {
@@ -177,6 +205,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
   // Finds the first particle with a non-finite value or outside the domain and throws.
   [[noreturn]] void diagnose(const std::string& what) {
     std::ostringstream s;
+    if (damping_rate > 0) s << "settling ";  // before time 0 (settle())
     s << "step " << advection_steps << " (t = " << time << "): ";
     View<const Vector> x = fluid.position.read(MemorySpace::host);
     View<const Vector> v = fluid.velocity.read(MemorySpace::host);
@@ -265,6 +294,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
       for (;;) {
         pressure_relaxation.exec(p, Real(dt));
         speed = double(velocity_update_and_max_speed.exec(p, Real(dt)));
+        if (damping_rate > 0) velocity_damping.exec(p, Real(std::exp(-damping_rate * dt)));
         density_relaxation.exec(p, Real(dt));
         relaxed += dt;
         ++acoustic_steps;
@@ -473,6 +503,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
   DensityUpdate<T, D> density_update;
   MaximumSpeed<T, D> max_speed;
   VelocityUpdateAndMaxSpeed<T, D> velocity_update_and_max_speed;
+  VelocityDamping<T, D> velocity_damping;
   DensityUpdateAndPressureStart<T, D> density_update_and_start;
   RefreshNeighborRecords<T, D> refresh_records;
   FrontPosition<T, D> front;
@@ -483,11 +514,14 @@ struct WeaklyCompressibleSolver<T, D>::State {
   std::uint64_t advection_steps = 0;
   std::uint64_t acoustic_steps = 0;
   double last_acoustic_dt = 0;  // for pressure_relaxation_pass()
+  double damping_rate = 0;      // 1/time, while settling
+  SettlingReport settling;
 };
 
 template <class T, int D>
-WeaklyCompressibleSolver<T, D>::WeaklyCompressibleSolver(const CaseDescription& description, PolicyKind policy)
-    : state_(std::make_unique<State>(description, policy)) {}
+WeaklyCompressibleSolver<T, D>::WeaklyCompressibleSolver(const CaseDescription& description, PolicyKind policy,
+                                                         bool settle)
+    : state_(std::make_unique<State>(description, policy, settle)) {}
 template <class T, int D>
 WeaklyCompressibleSolver<T, D>::~WeaklyCompressibleSolver() = default;
 template <class T, int D>
@@ -500,6 +534,8 @@ template <class T, int D>
 std::uint64_t WeaklyCompressibleSolver<T, D>::advection_steps() const { return state_->advection_steps; }
 template <class T, int D>
 std::uint64_t WeaklyCompressibleSolver<T, D>::acoustic_steps() const { return state_->acoustic_steps; }
+template <class T, int D>
+const SettlingReport& WeaklyCompressibleSolver<T, D>::settling() const { return state_->settling; }
 template <class T, int D>
 Index WeaklyCompressibleSolver<T, D>::fluid_count() const { return state_->fluid.size(); }
 template <class T, int D>
