@@ -21,6 +21,8 @@ run dambreak_2d_f dambreak_2d.toml --precision float; cp "$W/dambreak_2d_f/obser
 run column40 column_collapse_2d.toml;        cp "$W/column40/observers.csv" "$OUT/column_collapse_2d.csv"
 run column80 column_collapse_2d.toml --dx 0.0125; cp "$W/column80/observers.csv" "$OUT/column_collapse_2d_dx80.csv"
 run hydrostatic hydrostatic_2d.toml;         cp "$W/hydrostatic/observers.csv" "$OUT/hydrostatic_2d.csv"
+# First and last snapshot: sph_run_metrics.py moved OUT/hydrostatic_first.vtp OUT/hydrostatic_last.vtp 0.025
+cp "$W/hydrostatic/Water_000000.vtp" "$OUT/hydrostatic_first.vtp"; cp "$(ls "$W"/hydrostatic/Water_*.vtp | tail -1)" "$OUT/hydrostatic_last.vtp"
 run dambreak_3d_025 dambreak_3d.toml --dx 0.025 --precision float; cp "$W/dambreak_3d_025/observers.csv" "$OUT/dambreak_3d_dx0.025.csv"
 run dambreak_3d_0125 dambreak_3d.toml --dx 0.0125 --precision float --end-time 6; cp "$W/dambreak_3d_0125/observers.csv" "$OUT/dambreak_3d_dx0.0125.csv"
 # The resolution study of docs/validation.md: the dam break to t* = 6 at H/80..H/320 (crossing and

@@ -3,6 +3,7 @@
 
     sph_run_metrics.py crossing  RUN.csv [PROBE]          first time p* > 0.2, mean p* over [3.5, 5]
     sph_run_metrics.py front     A.csv B.csv [T_MAX]      largest |front_A - front_B| / front_B for t* <= T_MAX
+    sph_run_metrics.py moved     FIRST.vtp LAST.vtp DX    share of the particles (by ParticleId) that moved less than DX
 """
 import csv
 import sys
@@ -56,6 +57,22 @@ def main():
             if g:
                 worst = max(worst, abs(f - g) / g)
         print("largest front difference %.4f %%" % (100 * worst))
+    elif what == "moved":
+        import vtk  # Debian's python3-vtk9
+        from vtk.util.numpy_support import vtk_to_numpy
+
+        def by_id(path):
+            r = vtk.vtkXMLPolyDataReader()
+            r.SetFileName(path)
+            r.Update()
+            out = r.GetOutput()
+            ids = vtk_to_numpy(out.GetPointData().GetArray("ParticleId"))
+            x = vtk_to_numpy(out.GetPoints().GetData())
+            return {int(i): x[k] for k, i in enumerate(ids)}
+
+        a, b, dx = by_id(sys.argv[2]), by_id(sys.argv[3]), float(sys.argv[4])
+        still = sum(1 for i, x in a.items() if sum((x - b[i]) ** 2) ** 0.5 < dx)
+        print("%.2f %% of %d particles moved less than dx" % (100.0 * still / len(a), len(a)))
 
 
 if __name__ == "__main__":
