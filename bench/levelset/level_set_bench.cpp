@@ -114,6 +114,21 @@ void run(P policy, TriangleMeshSearch& search, const Vec3& lo, const Vec3& hi, i
 
 }  // namespace
 
+// A whole positive number, or a one-line error naming the argument and exit status 2.
+int positive_argument(const std::string& what, const std::string& text) {
+  char* end = nullptr;
+  const long v = std::strtol(text.c_str(), &end, 10);
+  if (text.empty() || *end != '\0' || v <= 0 || v > 1 << 20) {
+    std::fprintf(stderr,
+                 "bench_level_set: %s '%s' is not a positive whole number (usage: bench_level_set [N ...] [--policy "
+                 "seq|par|device ...] [--sign winding|pseudonormal] [--no-kernel-integrals] [--no-cleaning] [--repeat R] "
+                 "[--openvdb] [--threads T])\n",
+                 what.c_str(), text.c_str());
+    std::exit(2);
+  }
+  return int(v);
+}
+
 int main(int argc, char** argv) {
   std::vector<int> sizes;
   std::vector<PolicyKind> policies;
@@ -123,19 +138,24 @@ int main(int argc, char** argv) {
     if (a == "--policy" && i + 1 < argc)
       policies.push_back(parse_policy(argv[++i]));
     else if (a == "--repeat" && i + 1 < argc)
-      options.repeat = std::atoi(argv[++i]);
-    else if (a == "--sign" && i + 1 < argc)
-      options.winding = std::string(argv[++i]) != "pseudonormal";
-    else if (a == "--no-kernel-integrals")
+      options.repeat = positive_argument("--repeat", argv[++i]);
+    else if (a == "--sign" && i + 1 < argc) {
+      const std::string sign = argv[++i];
+      if (sign != "winding" && sign != "pseudonormal") {
+        std::fprintf(stderr, "bench_level_set: --sign '%s' is neither 'winding' nor 'pseudonormal'\n", sign.c_str());
+        return 2;
+      }
+      options.winding = sign == "winding";
+    } else if (a == "--no-kernel-integrals")
       options.kernel_integrals = false;
     else if (a == "--no-cleaning")
       options.cleaning = false;
     else if (a == "--openvdb")
       options.openvdb = true;
     else if (a == "--threads" && i + 1 < argc)
-      set_host_threads(std::atoi(argv[++i]));
+      set_host_threads(positive_argument("--threads", argv[++i]));
     else
-      sizes.push_back(std::atoi(a.c_str()));
+      sizes.push_back(positive_argument("the size N", a));
   }
   if (sizes.empty()) sizes = {256, 512};
   if (policies.empty()) policies = execution_info().available;
