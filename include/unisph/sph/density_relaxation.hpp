@@ -37,9 +37,9 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
         wall_volume_(wall_volume), dissipation_(riemann_dissipation ? T(1) : T(0)), wall_free_(wall_free) {}
 
   struct Kernel {
-    // As the pressure relaxation's (exec/occupancy_hint.hpp): 4 blocks of 256 (at most 64
-    // registers) in float, 3 (85) in double.
-    static constexpr int min_blocks_per_multiprocessor = sizeof(T) == 4 ? 4 : 3;
+    // As the pressure relaxation's (exec/occupancy_hint.hpp): 6 blocks of 256 (at most 42
+    // registers) in float, 3 (85) in double; measured in session 8 against 4 and 5 (docs/sph.md).
+    static constexpr int min_blocks_per_multiprocessor = sizeof(T) == 4 ? 6 : 3;
     NeighborSearch<T, D> inner, contact;
     View<const PositionVolume<T, D>> position_volume;  // of the fluid neighbours
     View<const VelocityPressure<T, D>> velocity_pressure;

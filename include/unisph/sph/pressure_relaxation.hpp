@@ -83,9 +83,11 @@ class PressureRelaxation : public InteractionDynamics<PressureRelaxation<T, D>> 
         wall_volume_(wall_volume), wall_free_(wall_free) {}
 
   struct Kernel {
-    // The occupancy of the fastest measured build on an H100 (exec/occupancy_hint.hpp): 5 blocks of
-    // 256 (at most 51 registers) in float, 3 (85) in double.
-    static constexpr int min_blocks_per_multiprocessor = sizeof(T) == 4 ? 5 : 3;
+    // The occupancy of the fastest measured build on an H100 (exec/occupancy_hint.hpp): 6 blocks of
+    // 256 (at most 42 registers) in float, 3 (85) in double. Session 8 (docs/sph.md): with the
+    // rsqrt pair geometry, 6 against 5 took the 3D float pass from 0.88 to 0.82 ms per 10^6; 7 gave
+    // 0.80 but a slower step overall.
+    static constexpr int min_blocks_per_multiprocessor = sizeof(T) == 4 ? 6 : 3;
     NeighborSearch<T, D> inner, contact;
     View<const PositionVolume<T, D>> position_volume;  // of the fluid neighbours
     View<const VelocityPressure<T, D>> velocity_pressure;
