@@ -27,15 +27,22 @@ struct NeighborPair {
   // pair). A direct search calls it for every pair; what a kernel does not read is removed by
   // the compiler once the loop is inlined.
   UNISPH_HOST_DEVICE void complete() {
+    r = std::sqrt(squared_distance);
+    e_ij = r > T(0) ? r_ij * (T(1) / r) : Vec<T, D>{};
+  }
+
+  // As complete(), but on the device from one reciprocal square root (a special-function
+  // instruction) instead of an IEEE square root and division: within an ulp or two of
+  // complete()'s values there, the same bits on the host. For kernels that need agreement with
+  // the host to round-off only, not bit for bit (the SPH relaxations: docs/sph.md, session 8;
+  // particle relaxation keeps complete(), whose device results equal seq's bit for bit).
+  UNISPH_HOST_DEVICE void complete_approximately() {
 #if UNISPH_DEVICE_CODE
-    // One reciprocal square root (a special-function instruction) instead of an IEEE square
-    // root and an IEEE division: within an ulp or two of the host's values.
     const T inverse = squared_distance > T(0) ? T(rsqrt(squared_distance)) : T(0);
     r = squared_distance * inverse;
     e_ij = r_ij * inverse;
 #else
-    r = std::sqrt(squared_distance);
-    e_ij = r > T(0) ? r_ij * (T(1) / r) : Vec<T, D>{};
+    complete();
 #endif
   }
 
