@@ -139,7 +139,7 @@ void add_levelset_command(CLI::App& app) {
   command->add_option("file", options->file, "the STL file (binary or ASCII), or closed polygons in a .poly text file")
       ->required();
   command->add_option("--dx", options->dx, "data spacing of the finest layer")->required()->check(CLI::PositiveNumber);
-  command->add_option("--levels", options->levels, "layers of doubling spacing (0: coarsest keeps >= 16 cells)")
+  command->add_option("--levels", options->levels, "layers of doubling spacing (0: coarsest keeps >= 32 cells)")
       ->check(CLI::Range(0, max_level_set_layers))
       ->capture_default_str();
   command->add_option("--sign", options->sign, "inside/outside by the winding number or the pseudonormal")

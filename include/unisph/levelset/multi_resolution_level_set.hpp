@@ -59,8 +59,11 @@ class MultiResolutionLevelSet {
  public:
   static constexpr int dimension = D;
 
-  // levels = 0 picks as many as keep the coarsest layer at 16 or more cells along the box's
-  // longest side (fewer would make the padding of two coarse cells a large part of every layer).
+  // levels = 0 picks as many as keep the coarsest layer at 32 or more cells along the box's
+  // longest side. A coarser layer is no longer sparse and only costs: at 16 cells teapot.stl put
+  // packages on 40 % of the cells, and their data points, far from a surface of many small
+  // triangles, each need the exact distance to a hundred of them (4-5 us a point): that layer
+  // took 10 % of the build at N = 1024 for 0.4 % of the data points (docs/levelset.md).
   // shape: ShapeSearchView<D> in the policy's memory space, or any trivially copyable object
   // with the same nearest(p).squared_distance and sign(p, nearest) (analytic shapes in tests).
   // clean_small_features: false keeps phi the exact signed distance of the shape.
@@ -76,7 +79,7 @@ class MultiResolutionLevelSet {
     for (int k = 0; k < D; ++k) longest = hi[k] - lo[k] > longest ? hi[k] - lo[k] : longest;
     if (levels <= 0) {
       levels = 1;
-      while (levels < max_level_set_layers && longest / (Real(package_size) * data_spacing * Real(1 << levels)) >= Real(16))
+      while (levels < max_level_set_layers && longest / (Real(package_size) * data_spacing * Real(1 << levels)) >= Real(32))
         ++levels;
     }
     if (levels > max_level_set_layers)
