@@ -5,13 +5,14 @@
 //
 //   bench_level_set [N ...] [--policy seq|par|device ...] [--sign winding|pseudonormal]
 //                   [--no-kernel-integrals] [--no-cleaning] [--repeat R] [--openvdb] [--threads T]
-//                                                                             default N: 256 512
+//                   [--half-width W]                                          default N: 256 512
 //
 // --openvdb (where built with OpenVDB): OpenVDB's meshToLevelSet of the same mesh at the same
-// voxel size, half width 3 voxels (our finest band holds every point with |phi| < 4 dx), float,
-// in the same run; its time (mesh in memory, no file input or output) and memUsage() per active
-// voxel, beside our finest layer's bytes per data point with |phi| < 3 dx in float (phi 4 bytes,
-// the cell -> package index, package cell, type and 27 neighbours).
+// voxel size, half width W voxels (default 3), float, in the same run; its time (mesh in memory,
+// no file input or output) and memUsage() per active voxel, beside our finest layer's bytes per
+// data point with |phi| < W dx in float (phi 4 bytes, the cell -> package index, package cell,
+// type and 27 neighbours). W is at most 4: our finest band holds every point with |phi| < 4 dx
+// (the nearest surface point's cell is core, and the point's cell is that cell or its neighbour).
 //
 // --threads T: at most T host threads (set_host_threads; OpenVDB runs on the same oneTBB, so it
 // is held to T as well). --threads 1 compares the work of both on one core.
@@ -63,6 +64,7 @@ struct Options {
   bool cleaning = true;
   bool openvdb = false;
   int repeat = 1;
+  int half_width = 3;  // voxels: OpenVDB's band, and the |phi| < W dx our memory figure counts
 };
 
 template <class P>
@@ -89,22 +91,23 @@ void run(P policy, TriangleMeshSearch& search, const Vec3& lo, const Vec3& hi, i
     const double cpu = process_cpu_seconds() - cpu_start;
     const LevelSetStageTimes& t = level_set.stage_seconds();
     LevelSetLayer<3>& finest = level_set.finest();
-    // Our finest layer in float per data point with |phi| < 3 dx (OpenVDB's half width).
+    // Our finest layer in float per data point with |phi| < W dx (OpenVDB's half width).
     const std::vector<Real> phi = finest.phi.to_vector();
     std::size_t in_band = 0;
     for (std::size_t i = std::size_t(far_field_packages) * package_points<3>; i < phi.size(); ++i)
-      in_band += std::fabs(phi[i]) < Real(3) * dx;
+      in_band += std::fabs(phi[i]) < Real(options.half_width) * dx;
     const double float_bytes =
         double(finest.packages()) * (package_points<3> * 4.0 + sizeof(std::uint64_t) + sizeof(PackageType) +
                                      sizeof(PackageNeighbourhood<3>)) +
         double(finest.grid().cell_count()) * sizeof(std::uint32_t);
     std::printf(
-        "%-6s N=%-5d levels=%d finest: packages=%zu data_points=%zu bytes/point=%.2f points(|phi|<3dx)=%zu "
-        "float bytes/point(|phi|<3dx)=%.2f removed=%zu | tagging %.3f s, packages %.3f s, distance %.3f s, normals "
+        "%-6s N=%-5d levels=%d finest: packages=%zu data_points=%zu bytes/point=%.2f points(|phi|<%ddx)=%zu "
+        "float bytes/point(|phi|<%ddx)=%.2f removed=%zu | tagging %.3f s, packages %.3f s, distance %.3f s, normals "
         "%.3f s, cleaning %.3f s, kernel integrals %.3f s, total %.3f s (CPU time %.3f s); signed distance "
         "(tagging+packages+distance) %.3f s (%s, %s sign)\n",
         std::string(P::name).c_str(), n, level_set.levels(), finest.data_packages(),
-        finest.data_packages() * package_points<3>, finest.bytes_per_data_point(), in_band, float_bytes / double(in_band),
+        finest.data_packages() * package_points<3>, finest.bytes_per_data_point(), options.half_width, in_band,
+        options.half_width, float_bytes / double(in_band),
         std::size_t(level_set.removed_data_points()), t.tagging, t.packages, t.distance, t.normals, t.cleaning,
         t.kernel_integrals, total, cpu, t.tagging + t.packages + t.distance, sizeof(Real) == 4 ? "float" : "double",
         options.winding ? "winding" : "pseudonormal");
@@ -122,7 +125,7 @@ int positive_argument(const std::string& what, const std::string& text) {
     std::fprintf(stderr,
                  "bench_level_set: %s '%s' is not a positive whole number (usage: bench_level_set [N ...] [--policy "
                  "seq|par|device ...] [--sign winding|pseudonormal] [--no-kernel-integrals] [--no-cleaning] [--repeat R] "
-                 "[--openvdb] [--threads T])\n",
+                 "[--openvdb] [--threads T] [--half-width W])\n",
                  what.c_str(), text.c_str());
     std::exit(2);
   }
@@ -152,7 +155,14 @@ int main(int argc, char** argv) {
       options.cleaning = false;
     else if (a == "--openvdb")
       options.openvdb = true;
-    else if (a == "--threads" && i + 1 < argc)
+    else if (a == "--half-width" && i + 1 < argc) {
+      options.half_width = positive_argument("--half-width", argv[++i]);
+      if (options.half_width > 4) {
+        std::fprintf(stderr, "bench_level_set: --half-width %d is wider than our band (every point with |phi| < 4 dx)\n",
+                     options.half_width);
+        return 2;
+      }
+    } else if (a == "--threads" && i + 1 < argc)
       set_host_threads(positive_argument("--threads", argv[++i]));
     else
       sizes.push_back(positive_argument("the size N", a));
@@ -175,11 +185,12 @@ int main(int argc, char** argv) {
     for (int k = 0; k < 3; ++k) longest = std::max(longest, hi[k] - lo[k]);
     for (int n : sizes) {
       const double cpu_start = process_cpu_seconds();
-      const auto r = bench::openvdb_mesh_to_level_set(vertices, triangles, float(longest / Real(n)), 3.0f);
+      const auto r = bench::openvdb_mesh_to_level_set(vertices, triangles, float(longest / Real(n)),
+                                                      float(options.half_width));
       const double cpu = process_cpu_seconds() - cpu_start;
-      std::printf("openvdb N=%-5d meshToLevelSet (float, half width 3 voxels) %.3f s (CPU time %.3f s), active voxels "
+      std::printf("openvdb N=%-5d meshToLevelSet (float, half width %d voxels) %.3f s (CPU time %.3f s), active voxels "
                   "%zu, memUsage %zu bytes = %.2f bytes/active voxel\n",
-                  n, r.seconds, cpu, r.active_voxels, r.memory_bytes, double(r.memory_bytes) / double(r.active_voxels));
+                  n, options.half_width, r.seconds, cpu, r.active_voxels, r.memory_bytes, double(r.memory_bytes) / double(r.active_voxels));
       std::fflush(stdout);
     }
 #else
