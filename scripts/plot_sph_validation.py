@@ -4,7 +4,9 @@
     scripts/plot_sph_validation.py OUT_ROOT [IMAGES_DIR]
 
 OUT_ROOT holds the output folders of `unisph run` (observers.csv in each):
-    dambreak_2d/, column_collapse_2d/, column_collapse_2d_dx80/ (optional), hydrostatic_2d/
+    dambreak_2d/, column_collapse_2d/, column_collapse_2d_dx80/ (optional), hydrostatic_2d/,
+    dambreak_2d_H80/, dambreak_2d_H160/, dambreak_2d_H320/ (optional: the wall-pressure profile
+    at several resolutions; runs to t sqrt(g/H) = 6 are enough)
 Experimental data: tests/data/validation/.
 """
 import csv
@@ -44,6 +46,61 @@ def read_observers(folder):
     return columns
 
 
+def window_mean(t, p, a=3.5, b=5.0):
+    """Trapezoidal mean of p over [a, b], p interpolated linearly in t at the ends."""
+
+    def at(x):
+        for k in range(1, len(t)):
+            if t[k] >= x:
+                return p[k - 1] + (p[k] - p[k - 1]) * (x - t[k - 1]) / (t[k] - t[k - 1])
+        return p[-1]
+
+    xs = [a] + [x for x in t if a < x < b] + [b]
+    ys = [at(x) for x in xs]
+    return sum(0.5 * (ys[k] + ys[k - 1]) * (xs[k] - xs[k - 1]) for k in range(1, len(xs))) / (b - a)
+
+
+# Wall probes of dambreak_2d.toml and the experiment at the same height.
+WALL_PROBES = [("wall_0.01H", 0.01, "lobovsky_2014_sensor1.csv", "Lobovsky et al. (2014)"),
+               ("wall_0.1H", 0.1, "lobovsky_2014_sensor3.csv", "Lobovsky et al. (2014)"),
+               ("wall_0.2H", 0.2, "buchner_2002_wall_pressure.csv", "Buchner (2002)"),
+               ("wall_0.267H", 0.2667, "lobovsky_2014_sensor4.csv", "Lobovsky et al. (2014)")]
+
+
+def pressure_profile(root, images):
+    """Mean wall pressure over t sqrt(g/H) in [3.5, 5] against height, per resolution, beside the sensors."""
+    runs = [("dambreak_2d", "H/dx = 40"), ("dambreak_2d_H80", "H/dx = 80"), ("dambreak_2d_H160", "H/dx = 160"),
+            ("dambreak_2d_H320", "H/dx = 320")]
+    fig, ax = plt.subplots(figsize=(5, 4.5))
+    drawn = False
+    for folder, label in runs:
+        d = read_observers(os.path.join(root, folder))
+        if not d or "p_star_wall_0.1H" not in d:
+            continue
+        heights = [y for name, y, _, _ in WALL_PROBES]
+        means = [window_mean(d["time_star"], d["p_star_" + name]) for name, _, _, _ in WALL_PROBES]
+        ax.plot(means, heights, "o-", ms=4, label="unisph, " + label)
+        print("%-18s %s" % (label, "  ".join("%s %.3f" % (n, m) for (n, _, _, _), m in zip(WALL_PROBES, means))))
+        drawn = True
+    if not drawn:
+        plt.close(fig)
+        return
+    for name, y, data, who in WALL_PROBES:
+        t, p = read_experiment(data)
+        m = window_mean(t, p)
+        ax.plot(m, y, "ks" if who.startswith("Buchner") else "k^", ms=7, mfc="none",
+                label=who if name in ("wall_0.01H", "wall_0.2H") else None)
+        print("%-18s %s %.3f" % (who, name, m))
+    ax.set_xlabel("mean p / (rho g H) over t sqrt(g/H) in [3.5, 5]")
+    ax.set_ylabel("height on the downstream wall / H")
+    ax.set_xlim(left=0)
+    ax.set_ylim(0, 0.3)
+    ax.set_title("2D dam break: wall pressure after the impact")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(images, "sph_dambreak_pressure_profile.png"), dpi=120)
+
+
 def main():
     root = sys.argv[1]
     images = sys.argv[2] if len(sys.argv) > 2 else os.path.join(HERE, "..", "docs", "images")
@@ -78,6 +135,8 @@ def main():
         ax.legend()
         fig.tight_layout()
         fig.savefig(os.path.join(images, "sph_dambreak_energy.png"), dpi=120)
+
+    pressure_profile(root, images)
 
     col = read_observers(os.path.join(root, "column_collapse_2d"))
     if col:
