@@ -120,10 +120,11 @@ class PackageMesh {
     const Index cells = grid_.cell_count();
     if (tags.size() != cells) throw Error("PackageMesh::allocate: one tag per cell is needed");
     View<const CellTag> tag = tags.read(policy);
-    DiscreteVariable<std::uint32_t> flags("PackageFlags", cells), offsets("PackageOffsets", cells);
-    particle_for(policy, cells, k::FlagPackages{tag, flags.write(policy)});
-    const Index count = particle_reduce(policy, cells, Sum<Index>{}, k::CountFlags{flags.read(policy)});
-    exclusive_scan(policy, View<const std::uint32_t>(flags.read(policy)), offsets.write(policy));
+    // One array per cell: the flags, then (scanned in place) each package's slot.
+    DiscreteVariable<std::uint32_t> offsets("PackageOffsets", cells);
+    particle_for(policy, cells, k::FlagPackages{tag, offsets.write(policy)});
+    const Index count = particle_reduce(policy, cells, Sum<Index>{}, k::CountFlags{offsets.read(policy)});
+    exclusive_scan(policy, offsets, offsets);
     if (count + far_field_packages > std::numeric_limits<std::uint32_t>::max())
       throw Error("PackageMesh::allocate: more packages than 32-bit package indices can address");
     packages_ = count + far_field_packages;

@@ -83,28 +83,58 @@ struct TagChildrenFromCoarsePackages {
   }
 };
 
-// Non-core cells next to a core cell become inner (reads one tag array, writes another).
-// On a finer layer (coarse_tags not empty) only cells under a coarse cell with a package can be:
-// a core cell's parent is core (its centre lies within 1.87 fine = 0.93 coarse cell sizes of
-// the surface), so a neighbour of a core cell has a parent that is core or next to a core cell;
-// the others are not looked at.
+// Non-core cells next to a core cell become inner (reads one tag array, writes another). The
+// coarsest layer looks at every cell; a finer one only under the coarse layer's packages
+// (TagInnerUnderCoarsePackages, below): a core cell's parent is core (its centre lies within
+// 1.87 fine = 0.93 coarse cell sizes of the surface), so a neighbour of a core cell has a parent
+// that is core or next to a core cell, and so has a package.
 template <int D>
 struct TagInner {
   PackageGrid<D> grid;
   View<const CellTag> tags;
   View<CellTag> result;
-  PackageGrid<D> coarse_grid{};
-  View<const CellTag> coarse_tags{};
   UNISPH_HOST_DEVICE void operator()(Index c) const {
     const CellTag tag = tags[c];
     result[c] = tag;
     if (tag == CellTag::core) return;
     const Vec<int, D> cell = grid.coordinates(c);
-    if (coarse_tags.size() > 0) {
-      Vec<int, D> parent;
-      for (int k = 0; k < D; ++k) parent[k] = cell[k] / 2;
-      if (!has_package(coarse_tags[coarse_grid.linear(parent)])) return;
+    for (int s = 0; s < neighbourhood_size<D>; ++s) {
+      Vec<int, D> other = cell;
+      int rest = s;
+      for (int k = 0; k < D; ++k) {
+        other[k] += rest % 3 - 1;
+        rest /= 3;
+      }
+      if (grid.contains(other) && tags[grid.linear(other)] == CellTag::core) {
+        result[c] = CellTag::inner;
+        return;
+      }
     }
+  }
+};
+
+// The same on a finer layer, with work in proportion to the band rather than to the grid: each
+// layer's tags are first copied whole (CopyCellTags), then only the 2^D children of the coarse
+// layer's data packages are looked at (one thread per child, the only writer of its cell).
+struct CopyCellTags {
+  View<const CellTag> from;
+  View<CellTag> to;
+  UNISPH_HOST_DEVICE void operator()(Index c) const { to[c] = from[c]; }
+};
+template <int D>
+struct TagInnerUnderCoarsePackages {
+  PackageGrid<D> grid, coarse_grid;
+  View<const std::uint64_t> coarse_package_cell;  // data packages from far_field_packages on
+  View<const CellTag> tags;
+  View<CellTag> result;  // holds a copy of tags
+  UNISPH_HOST_DEVICE void operator()(Index i) const {
+    constexpr int children = 1 << D;
+    const Vec<int, D> parent = coarse_grid.coordinates(coarse_package_cell[Index(far_field_packages) + i / children]);
+    const int j = int(i % children);
+    Vec<int, D> cell;
+    for (int k = 0; k < D; ++k) cell[k] = 2 * parent[k] + ((j >> k) & 1);
+    const Index c = grid.linear(cell);
+    if (tags[c] == CellTag::core) return;
     for (int s = 0; s < neighbourhood_size<D>; ++s) {
       Vec<int, D> other = cell;
       int rest = s;

@@ -156,12 +156,15 @@ class MultiResolutionLevelSet {
                      TagUnderCoarseBand<D, Shape>{shape, grid, coarse.grid(), coarse.tags.read(policy),
                                                   decided.write(policy)});
     }
-    if (level == 0)
+    if (level == 0) {
       particle_for(policy, cells, TagInner<D>{grid, decided.read(policy), layer.tags.write(policy)});
-    else
-      particle_for(policy, cells,
-                   TagInner<D>{grid, decided.read(policy), layer.tags.write(policy), layers_[level - 1]->grid(),
-                               layers_[level - 1]->tags.read(policy)});
+    } else {
+      LevelSetLayer<D>& coarse = *layers_[level - 1];
+      particle_for(policy, cells, CopyCellTags{decided.read(policy), layer.tags.write(policy)});
+      particle_for(policy, coarse.data_packages() * (Index(1) << D),
+                   TagInnerUnderCoarsePackages<D>{grid, coarse.grid(), coarse.mesh.package_cell.read(policy),
+                                                  decided.read(policy), layer.tags.read_write(policy)});
+    }
     fence(policy);
     auto t1 = Clock::now();
     layer.allocate_packages(policy);
