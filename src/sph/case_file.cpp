@@ -26,13 +26,34 @@
 namespace unisph::sph {
 namespace {
 
+// A message that quotes the file's own text stays one line: control characters (a multi-line
+// string value, a quoted key with "\n" in it) are written as escapes.
+std::string one_line(const std::string& text) {
+  static const char hex[] = "0123456789abcdef";
+  std::string out;
+  for (const char ch : text) {
+    const unsigned char c = static_cast<unsigned char>(ch);
+    if (c == '\n')
+      out += "\\n";
+    else if (c == '\r')
+      out += "\\r";
+    else if (c == '\t')
+      out += "\\t";
+    else if (c < 0x20 || c == 0x7f)
+      out += std::string("\\x") + hex[c >> 4] + hex[c & 15];
+    else
+      out += ch;
+  }
+  return out;
+}
+
 struct Reader {
   const std::string& source;
 
   [[noreturn]] void fail(const toml::node* node, const std::string& key, const std::string& what) const {
     std::string line = "?";
     if (node && node->source().begin.line > 0) line = std::to_string(node->source().begin.line);
-    throw CaseFileError(source + ":" + line + ": key '" + key + "': " + what);
+    throw CaseFileError(one_line(source + ":" + line + ": key '" + key + "': " + what));
   }
   [[noreturn]] void fail_at(const toml::table& table, const std::string& key, const std::string& what) const {
     fail(&table, key, what);

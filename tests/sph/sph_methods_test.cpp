@@ -177,6 +177,10 @@ TEST(HostSphCaseFile, OneLineErrorsNameFileLineAndKey) {
        "case.toml:14: key 'initial.settling_damping': needs initial.settling_time > 0"},
       {replaced(valid_case, "[physics]", "[initial]\nsettling_time = 1.0\nsettling_damping = 0\n[physics]"),
        "case.toml:15: key 'initial.settling_damping': must be positive"},
+      // Values and keys that hold a line break are quoted with it escaped (found by fuzz/case_fuzzer.cpp):
+      {replaced(valid_case, "[physics]", "[initial]\nstate = \"\"\"a\nb\"\"\"\n[physics]"),
+       "case.toml:14: key 'initial.state': must be \"rest\" or \"hydrostatic\" (it is \"a\\nb\")"},
+      {replaced(valid_case, "dx = 0.1", "dx = 0.1\n\"a\\nb\" = 2"), "case.toml:7: key 'geometry.a\\nb': unknown key"},
       // Inputs on which toml++ 3.x itself goes wrong (found by fuzz/case_fuzzer.cpp):
       {replaced(valid_case, "[physics]", "[ (physics)]"), "case.toml:13: not valid TOML: a table header must start"},
       {replaced(valid_case, "[physics]", "[\n"), "case.toml:13: not valid TOML: a table header must start"},
