@@ -20,6 +20,8 @@ import matplotlib.pyplot as plt
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 DATA = os.path.join(HERE, "..", "tests", "data", "validation")
+sys.path.insert(0, HERE)
+from sph_run_metrics import window_mean  # noqa: E402  (the trapezoidal mean of docs/validation.md)
 
 
 def read_experiment(name):
@@ -46,20 +48,6 @@ def read_observers(folder):
     return columns
 
 
-def window_mean(t, p, a=3.5, b=5.0):
-    """Trapezoidal mean of p over [a, b], p interpolated linearly in t at the ends."""
-
-    def at(x):
-        for k in range(1, len(t)):
-            if t[k] >= x:
-                return p[k - 1] + (p[k] - p[k - 1]) * (x - t[k - 1]) / (t[k] - t[k - 1])
-        return p[-1]
-
-    xs = [a] + [x for x in t if a < x < b] + [b]
-    ys = [at(x) for x in xs]
-    return sum(0.5 * (ys[k] + ys[k - 1]) * (xs[k] - xs[k - 1]) for k in range(1, len(xs))) / (b - a)
-
-
 # Wall probes of dambreak_2d.toml and the experiment at the same height.
 WALL_PROBES = [("wall_0.01H", 0.01, "lobovsky_2014_sensor1.csv", "Lobovsky et al. (2014)"),
                ("wall_0.1H", 0.1, "lobovsky_2014_sensor3.csv", "Lobovsky et al. (2014)"),
@@ -78,7 +66,7 @@ def pressure_profile(root, images):
         if not d or "p_star_wall_0.1H" not in d:
             continue
         heights = [y for name, y, _, _ in WALL_PROBES]
-        means = [window_mean(d["time_star"], d["p_star_" + name]) for name, _, _, _ in WALL_PROBES]
+        means = [window_mean(d["time_star"], d["p_star_" + name], 3.5, 5.0) for name, _, _, _ in WALL_PROBES]
         ax.plot(means, heights, "o-", ms=4, label="unisph, " + label)
         print("%-18s %s" % (label, "  ".join("%s %.3f" % (n, m) for (n, _, _, _), m in zip(WALL_PROBES, means))))
         drawn = True
@@ -87,7 +75,7 @@ def pressure_profile(root, images):
         return
     for name, y, data, who in WALL_PROBES:
         t, p = read_experiment(data)
-        m = window_mean(t, p)
+        m = window_mean(t, p, 3.5, 5.0)
         ax.plot(m, y, "ks" if who.startswith("Buchner") else "k^", ms=7, mfc="none",
                 label=who if name in ("wall_0.01H", "wall_0.2H") else None)
         print("%-18s %s %.3f" % (who, name, m))

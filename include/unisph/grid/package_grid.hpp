@@ -26,6 +26,18 @@ inline constexpr int package_points = D == 2 ? package_size * package_size : pac
 template <int D>
 inline constexpr int neighbourhood_size = D == 2 ? 9 : 27;
 
+// Member s (0 .. 3^D - 1) of the 3^D block around `centre` (cells, packages or data points):
+// offset (s % 3 - 1, s / 3 % 3 - 1, ...), so s = (3^D - 1) / 2 is the centre itself.
+template <int D>
+UNISPH_HOST_DEVICE inline Vec<int, D> neighbour_in_block(const Vec<int, D>& centre, int s) {
+  Vec<int, D> other = centre;
+  for (int k = 0; k < D; ++k) {
+    other[k] += s % 3 - 1;
+    s /= 3;
+  }
+  return other;
+}
+
 template <int D>
 struct PackageGrid {
   static_assert(D == 2 || D == 3, "a package grid is 2D or 3D.");

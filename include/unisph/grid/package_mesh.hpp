@@ -88,12 +88,7 @@ struct Neighbourhoods {
     }
     const Vec<int, D> cell = grid.coordinates(package_cell[p]);
     for (int s = 0; s < neighbourhood_size<D>; ++s) {
-      Vec<int, D> other = cell;
-      int rest = s;
-      for (int k = 0; k < D; ++k) {
-        other[k] += rest % 3 - 1;
-        rest /= 3;
-      }
+      const Vec<int, D> other = neighbour_in_block<D>(cell, s);
       result.package[s] = grid.contains(other) ? cell_package[grid.linear(other)] : outside_package;
     }
     neighbourhood[p] = result;

@@ -83,6 +83,17 @@ struct TagChildrenFromCoarsePackages {
   }
 };
 
+// Whether a cell of the 3^D block around `cell` is core.
+template <int D>
+UNISPH_HOST_DEVICE inline bool touches_core_cell(const PackageGrid<D>& grid, const View<const CellTag>& tags,
+                                                 const Vec<int, D>& cell) {
+  for (int s = 0; s < neighbourhood_size<D>; ++s) {
+    const Vec<int, D> other = neighbour_in_block<D>(cell, s);
+    if (grid.contains(other) && tags[grid.linear(other)] == CellTag::core) return true;
+  }
+  return false;
+}
+
 // Non-core cells next to a core cell become inner (reads one tag array, writes another). The
 // coarsest layer looks at every cell; a finer one only under the coarse layer's packages
 // (TagInnerUnderCoarsePackages, below): a core cell's parent is core (its centre lies within
@@ -98,18 +109,7 @@ struct TagInner {
     result[c] = tag;
     if (tag == CellTag::core) return;
     const Vec<int, D> cell = grid.coordinates(c);
-    for (int s = 0; s < neighbourhood_size<D>; ++s) {
-      Vec<int, D> other = cell;
-      int rest = s;
-      for (int k = 0; k < D; ++k) {
-        other[k] += rest % 3 - 1;
-        rest /= 3;
-      }
-      if (grid.contains(other) && tags[grid.linear(other)] == CellTag::core) {
-        result[c] = CellTag::inner;
-        return;
-      }
-    }
+    if (touches_core_cell<D>(grid, tags, cell)) result[c] = CellTag::inner;
   }
 };
 
@@ -135,18 +135,7 @@ struct TagInnerUnderCoarsePackages {
     for (int k = 0; k < D; ++k) cell[k] = 2 * parent[k] + ((j >> k) & 1);
     const Index c = grid.linear(cell);
     if (tags[c] == CellTag::core) return;
-    for (int s = 0; s < neighbourhood_size<D>; ++s) {
-      Vec<int, D> other = cell;
-      int rest = s;
-      for (int k = 0; k < D; ++k) {
-        other[k] += rest % 3 - 1;
-        rest /= 3;
-      }
-      if (grid.contains(other) && tags[grid.linear(other)] == CellTag::core) {
-        result[c] = CellTag::inner;
-        return;
-      }
-    }
+    if (touches_core_cell<D>(grid, tags, cell)) result[c] = CellTag::inner;
   }
 };
 

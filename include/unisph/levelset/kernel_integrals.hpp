@@ -220,13 +220,7 @@ struct KernelIntegralsAtDataPoints {
       Real block[block_points];
       if (!cell_one_side)
         for (int b = 0; b < block_points; ++b) {
-          Vec<int, D> p = at;
-          int q = b;
-          for (int k = 0; k < D; ++k) {
-            p[k] += q % 3 - 1;
-            q /= 3;
-          }
-          const DataPointAddress c = neighbour_index_shift<D>(p, around);
+          const DataPointAddress c = neighbour_index_shift<D>(neighbour_in_block<D>(at, b), around);
           block[b] = phi[Index(c.package) * package_points<D> + c.local_point];
         }
       const Vec<Real, D> n_cell = normal[cell];

@@ -66,16 +66,6 @@ UNISPH_HOST_DEVICE inline Vec<int, D> local_coordinates(int local_point) {
   }
   return local;
 }
-// The relative index of neighbour s (0 .. 3^D - 1) of the point at `local`.
-template <int D>
-UNISPH_HOST_DEVICE inline Vec<int, D> around(const Vec<int, D>& local, int s) {
-  Vec<int, D> other = local;
-  for (int k = 0; k < D; ++k) {
-    other[k] += s % 3 - 1;
-    s /= 3;
-  }
-  return other;
-}
 UNISPH_HOST_DEVICE inline Index storage(const DataPointAddress& a, int points) {
   return Index(a.package) * points + a.local_point;
 }
@@ -101,7 +91,7 @@ struct MarkUnresolved {
       const Vec<int, D> local = local_coordinates<D>(local_point);
       bool outside = false, inside = false;
       for (int s = 0; s < neighbourhood_size<D>; ++s) {
-        const Real value = phi[storage(neighbour_index_shift<D>(around<D>(local, s), neighbourhood[package]), points)];
+        const Real value = phi[storage(neighbour_index_shift<D>(neighbour_in_block<D>(local, s), neighbourhood[package]), points)];
         outside = outside || value >= resolved;
         inside = inside || value <= -resolved;
       }
@@ -193,7 +183,7 @@ struct StartRecords {
     Vec<int, D> nearest;
     for (int k = 0; k < D; ++k) nearest[k] = int(std::floor((foot[k] - grid.origin[k]) / grid.data_spacing));
     bool found = false;
-    for (int s = 0; s < neighbourhood_size<D> && !found; ++s) found = fate_at(around<D>(nearest, s)) != 0;
+    for (int s = 0; s < neighbourhood_size<D> && !found; ++s) found = fate_at(neighbour_in_block<D>(nearest, s)) != 0;
     return found;
   }
   UNISPH_HOST_DEVICE void operator()(std::uint32_t package, int local_point) const {
@@ -304,7 +294,7 @@ struct Redistance {
     Vec<Real, D> best_foot = foot_in[i], best_normal = normal_in[i];
     Real best = best_foot[0] < unassigned ? squared_norm(x - best_foot) : unassigned;
     for (int s = 0; s < neighbourhood_size<D>; ++s) {
-      const DataPointAddress a = neighbour_index_shift<D>(around<D>(local, s), neighbourhood[package]);
+      const DataPointAddress a = neighbour_index_shift<D>(neighbour_in_block<D>(local, s), neighbourhood[package]);
       if (a.package < far_field_packages) continue;
       const Index k = storage(a, points);
       const Vec<Real, D> foot = foot_in[k];
