@@ -6,7 +6,8 @@
 OUT_ROOT holds the output folders of `unisph run` (observers.csv in each):
     dambreak_2d/, column_collapse_2d/, column_collapse_2d_dx80/ (optional), hydrostatic_2d/,
     dambreak_2d_H80/, dambreak_2d_H160/, dambreak_2d_H320/ (optional: the wall-pressure profile
-    at several resolutions; runs to t sqrt(g/H) = 6 are enough)
+    and the arrival at the wall probes at several resolutions; runs to t sqrt(g/H) = 6 are enough),
+    dambreak_3d/ (optional: the 3D case, drawn beside them in the arrival plot)
 Experimental data: tests/data/validation/.
 """
 import csv
@@ -21,7 +22,7 @@ import matplotlib.pyplot as plt
 HERE = os.path.dirname(os.path.abspath(__file__))
 DATA = os.path.join(HERE, "..", "tests", "data", "validation")
 sys.path.insert(0, HERE)
-from sph_run_metrics import window_mean  # noqa: E402  (the trapezoidal mean of docs/validation.md)
+from sph_run_metrics import first_crossing, window_mean  # noqa: E402  (the figures of docs/validation.md)
 
 
 def read_experiment(name):
@@ -89,6 +90,44 @@ def pressure_profile(root, images):
     fig.savefig(os.path.join(images, "sph_dambreak_pressure_profile.png"), dpi=120)
 
 
+def arrival_at_probes(root, images):
+    """First time p/(rho g H) > 0.2 at each wall probe against its height, beside the sensors' own."""
+    runs = [("dambreak_2d", "2D, H/dx = 40"), ("dambreak_2d_H80", "2D, H/dx = 80"),
+            ("dambreak_2d_H160", "2D, H/dx = 160"), ("dambreak_2d_H320", "2D, H/dx = 320"),
+            ("dambreak_3d", "3D (Lobovsky's tank)")]
+    fig, ax = plt.subplots(figsize=(5.5, 4.5))
+    drawn = False
+    for folder, label in runs:
+        d = read_observers(os.path.join(root, folder))
+        if not d or "p_star_wall_0.1H" not in d:
+            continue
+        times = [first_crossing(d["time_star"], d["p_star_" + name]) for name, _, _, _ in WALL_PROBES]
+        ax.plot(times, [y for _, y, _, _ in WALL_PROBES], "o-", ms=4, lw=1, label="unisph, " + label)
+        print("%-22s %s" % (label, "  ".join("%s %.3f" % (n, c) for (n, _, _, _), c in zip(WALL_PROBES, times))))
+        drawn = True
+    if not drawn:
+        plt.close(fig)
+        return
+    lobovsky = []
+    for name, y, data, who in WALL_PROBES:
+        c = first_crossing(*read_experiment(data))
+        if who.startswith("Buchner"):
+            ax.plot(c, y, "ks", ms=8, mfc="none", label="Buchner (2002)")
+        else:
+            ax.plot(c, y, "k^", ms=8, mfc="none", label=who if name == "wall_0.01H" else None)
+            lobovsky.append((c, y))
+        print("%-22s %s %.3f" % (who, name, c))
+    ax.plot([c for c, _ in lobovsky], [y for _, y in lobovsky], "k:", lw=1)
+    ax.plot([2.30, 2.65], [0.2, 0.2], "r-", lw=3, alpha=0.4, label="issue's bound at 0.2 H")
+    ax.set_xlabel("first t sqrt(g/H) with p / (rho g H) > 0.2")
+    ax.set_ylabel("height on the downstream wall / H")
+    ax.set_ylim(0, 0.3)
+    ax.set_title("Dam break: arrival of the water at the wall probes")
+    ax.legend(fontsize=7, loc="lower right")
+    fig.tight_layout()
+    fig.savefig(os.path.join(images, "sph_dambreak_arrival.png"), dpi=120)
+
+
 def main():
     root = sys.argv[1]
     images = sys.argv[2] if len(sys.argv) > 2 else os.path.join(HERE, "..", "docs", "images")
@@ -125,6 +164,7 @@ def main():
         fig.savefig(os.path.join(images, "sph_dambreak_energy.png"), dpi=120)
 
     pressure_profile(root, images)
+    arrival_at_probes(root, images)
 
     col = read_observers(os.path.join(root, "column_collapse_2d"))
     if col:

@@ -2,6 +2,7 @@
 """Figures of `unisph run` observer files (observers.csv), for docs/validation.md.
 
     sph_run_metrics.py crossing  RUN.csv [PROBE]          first time p* > 0.2, mean p* over [3.5, 5]
+    sph_run_metrics.py arrivals  RUN.csv                  first time p* > 0.2 at every wall probe
     sph_run_metrics.py front     A.csv B.csv [T_MAX]      largest |front_A - front_B| / front_B for t* <= T_MAX
     sph_run_metrics.py moved     FIRST.vtp LAST.vtp DX    share of the particles (by ParticleId) that moved less than DX
 """
@@ -33,19 +34,28 @@ def window_mean(t, y, a, b):
     return s / (b - a)
 
 
+def first_crossing(t, y, level=0.2):
+    """The first time y exceeds level, interpolated linearly from the sample before (None if never)."""
+    for k in range(1, len(t)):
+        if y[k] > level:
+            return t[k - 1] + (level - y[k - 1]) / (y[k] - y[k - 1]) * (t[k] - t[k - 1])
+    return None
+
+
 def main():
     what = sys.argv[1]
     if what == "crossing":
         d = read(sys.argv[2])
         probe = sys.argv[3] if len(sys.argv) > 3 else "wall_0.2H"
         t, p = d["time_star"], d["p_star_" + probe]
-        crossing = None
-        for k in range(1, len(t)):
-            if p[k] > 0.2:
-                crossing = t[k - 1] + (0.2 - p[k - 1]) / (p[k] - p[k - 1]) * (t[k] - t[k - 1])
-                break
+        crossing = first_crossing(t, p)
         mean = window_mean(t, p, 3.5, 5.0) if t[-1] >= 5 else float("nan")
         print("crossing %.4f window_mean %.4f" % (crossing if crossing else float("nan"), mean))
+    elif what == "arrivals":
+        d = read(sys.argv[2])
+        for name in sorted((k for k in d if k.startswith("p_star_")), key=lambda k: float(k.split("_")[-1][:-1])):
+            c = first_crossing(d["time_star"], d[name])
+            print("%-16s %s" % (name[len("p_star_"):], "%.3f" % c if c is not None else "never"))
     elif what == "front":
         a, b = read(sys.argv[2]), read(sys.argv[3])
         tmax = float(sys.argv[4]) if len(sys.argv) > 4 else 1e30
