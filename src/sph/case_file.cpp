@@ -356,7 +356,8 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
   }
 
   const toml::table& time = r.table(root, "time", true);
-  r.only_keys(time, "time.", {"end", "output_interval", "sort_every", "neighbor_search", "checkpoint_every", "cells_per_cutoff"});
+  r.only_keys(time, "time.", {"end", "output_interval", "sort_every", "neighbor_search", "last_acoustic_step", "checkpoint_every",
+                          "cells_per_cutoff"});
   c.end_time = r.positive(time, "time.", "end");
   const double default_interval = c.end_time / 50;
   c.output_interval = r.positive(time, "time.", "output_interval", &default_interval);
@@ -370,6 +371,11 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
   if (c.neighbor_search != "automatic" && c.neighbor_search != "stored" && c.neighbor_search != "direct")
     r.fail(time.get("neighbor_search"), "time.neighbor_search",
            "must be \"automatic\", \"stored\" or \"direct\" (it is \"" + c.neighbor_search + "\")");
+  const std::string shortened = "shortened";
+  c.last_acoustic_step = r.text(time, "time.", "last_acoustic_step", &shortened);
+  if (c.last_acoustic_step != "shortened" && c.last_acoustic_step != "full")
+    r.fail(time.get("last_acoustic_step"), "time.last_acoustic_step",
+           "must be \"shortened\" or \"full\" (it is \"" + c.last_acoustic_step + "\")");
   const long long automatic_cells = 0;
   const long long cells_per_cutoff = r.integer(time, "time.", "cells_per_cutoff", &automatic_cells);
   if (cells_per_cutoff < 0 || cells_per_cutoff > 2)

@@ -177,6 +177,8 @@ TEST(HostSphCaseFile, OneLineErrorsNameFileLineAndKey) {
        "case.toml:14: key 'initial.settling_damping': needs initial.settling_time > 0"},
       {replaced(valid_case, "[physics]", "[initial]\nsettling_time = 1.0\nsettling_damping = 0\n[physics]"),
        "case.toml:15: key 'initial.settling_damping': must be positive"},
+      {replaced(valid_case, "end = 0.5", "end = 0.5\nlast_acoustic_step = \"whole\""),
+       "case.toml:17: key 'time.last_acoustic_step': must be \"shortened\" or \"full\" (it is \"whole\")"},
       // Values and keys that hold a line break are quoted with it escaped (found by fuzz/case_fuzzer.cpp):
       {replaced(valid_case, "[physics]", "[initial]\nstate = \"\"\"a\nb\"\"\"\n[physics]"),
        "case.toml:14: key 'initial.state': must be \"rest\" or \"hydrostatic\" (it is \"a\\nb\")"},
@@ -231,6 +233,29 @@ void run_acoustic_steps(WeaklyCompressibleSolver<T, 2>& solver, std::uint64_t st
 }
 
 }  // namespace
+
+// time.last_acoustic_step: an advection step from rest ends at Dt = 0.25 h / U exactly when its
+// last acoustic step is shortened; kept whole, it ends with the first acoustic step that reaches
+// Dt (SPHinXsys' loop), and never past the time it was asked to stop at.
+TEST(HostSphSolver, LastAcousticStepShortenedOrFull) {
+  CaseDescription c = small_dam_break();
+  const double h = 1.3 * c.dx, advection_dt = 0.25 * h / c.reference_velocity, acoustic_dt = 0.6 * h / c.sound_speed;
+  WeaklyCompressibleSolver<double, 2> shortened(c, PolicyKind::seq);
+  shortened.advance(1e9);
+  EXPECT_NEAR(shortened.time(), advection_dt, 1e-15);
+  EXPECT_EQ(shortened.acoustic_steps(), 5u) << "Dt / dt = 4.17 at rest";
+  c.last_acoustic_step = "full";
+  WeaklyCompressibleSolver<double, 2> full(c, PolicyKind::seq);
+  full.advance(1e9);
+  EXPECT_EQ(full.acoustic_steps(), 5u);
+  EXPECT_GT(full.time(), advection_dt);
+  EXPECT_LE(full.time(), 5 * acoustic_dt * (1 + 1e-15)) << "each step at most 0.6 h / c0";
+  EXPECT_GT(full.time(), 5 * acoustic_dt * 0.99) << "speeds near rest: each step near 0.6 h / c0";
+  WeaklyCompressibleSolver<double, 2> stopped(c, PolicyKind::seq);
+  const double until = 1.1 * advection_dt;  // between Dt and five whole acoustic steps
+  stopped.advance(until);
+  EXPECT_NEAR(stopped.time(), until, 1e-15) << "a whole last step still stops at the time asked for";
+}
 
 UNISPH_POLICY_TEST_SUITE(SphSolver);
 

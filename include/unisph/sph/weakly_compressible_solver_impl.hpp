@@ -250,7 +250,8 @@ struct WeaklyCompressibleSolver<T, D>::State {
       }
       const double remaining_time = until - time;
       if (remaining_time <= 0) return;
-      if (advection_dt > remaining_time) advection_dt = remaining_time;
+      const bool ends_at_until = advection_dt >= remaining_time;
+      if (ends_at_until) advection_dt = remaining_time;
       // Guards against a run that would never end its advection step: a sound speed out of
       // all proportion to the flow, or speeds that explode within the step (the acoustic step
       // shrinks with them while the advection step was fixed at its start).
@@ -281,9 +282,15 @@ struct WeaklyCompressibleSolver<T, D>::State {
         diagnose(s.str());
       };
       double relaxed = 0;
+      // The last step is shortened to end at Dt, or kept whole where the case asks for it
+      // (time.last_acoustic_step); never past `until`, and never longer than a Dt that the
+      // viscous limit made shorter than one acoustic step.
+      const bool shorten_last = description.last_acoustic_step != "full" || ends_at_until;
       const auto next_acoustic_step = [&] {
         double dt = criteria.acoustic_step(speed);
-        if (dt >= advection_dt - relaxed) dt = advection_dt - relaxed;
+        const double left = advection_dt - relaxed;
+        if (dt >= left && (shorten_last || relaxed == 0)) dt = left;
+        if (dt >= remaining_time - relaxed) dt = remaining_time - relaxed;
         return dt;
       };
       // advection_dt > 0 (checked above): at least one acoustic step.
@@ -298,7 +305,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
         density_relaxation.exec(p, Real(dt));
         relaxed += dt;
         ++acoustic_steps;
-        const bool more = advection_dt - relaxed > 1e-12 * advection_dt;
+        const bool more = advection_dt - relaxed > 1e-12 * advection_dt;  // a full last step passes Dt
         if (!std::isfinite(speed) || !more || too_many_steps()) {
           density_update.exec(p, Real(dt));
           if (!std::isfinite(speed)) diagnose("the largest speed is not finite");
