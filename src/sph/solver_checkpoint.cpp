@@ -29,6 +29,7 @@ void write_case(io::CheckpointWriter& out, const CaseDescription& c) {
   out.f64(c.checkpoint_every);
   out.string(c.neighbor_search);
   out.u32(std::uint32_t(c.cells_per_cutoff));
+  out.string(c.last_acoustic_step);
   out.f64(c.length_scale);
   out.f64(c.time_scale);
   out.f64(c.pressure_scale);
@@ -69,6 +70,7 @@ CaseDescription read_case(io::CheckpointReader& in) {
   c.checkpoint_every = in.f64();
   c.neighbor_search = in.string();
   c.cells_per_cutoff = int(in.u32());
+  c.last_acoustic_step = in.string();
   c.length_scale = in.f64();
   c.time_scale = in.f64();
   c.pressure_scale = in.f64();
@@ -132,6 +134,7 @@ std::string physics_difference(const CaseDescription& a, const CaseDescription& 
   field("time.sort_every", a.sort_every, b.sort_every);
   field("time.neighbor_search", a.neighbor_search, b.neighbor_search);
   field("time.cells_per_cutoff", a.cells_per_cutoff, b.cells_per_cutoff);
+  field("time.last_acoustic_step", a.last_acoustic_step, b.last_acoustic_step);
   field("number of probes", int(a.probes.size()), int(b.probes.size()));
   for (std::size_t k = 0; k < a.probes.size() && k < b.probes.size(); ++k)
     field("probe.position", a.probes[k].position, b.probes[k].position);

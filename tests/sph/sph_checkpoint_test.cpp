@@ -246,6 +246,13 @@ TEST(HostSphCheckpoint, BrokenOrForeignCheckpointsAreRefusedWithOneLine) {
                       "was written for another case ('small_dam_break'): geometry.dx (0.040000000000000001 here, "
                       "0.050000000000000003 in the checkpoint)"});
   }
+  {
+    CaseDescription whole_steps = small_dam_break();
+    whole_steps.last_acoustic_step = "full";
+    checks.push_back({good.string(), restore_double_2d(good, whole_steps),
+                      "was written for another case ('small_dam_break'): time.last_acoustic_step (\"full\" here, "
+                      "\"shortened\" in the checkpoint)"});
+  }
   for (const Expectation& e : checks) {
     EXPECT_NE(e.message.find("checkpoint " + e.file + ": "), std::string::npos) << e.message;
     EXPECT_NE(e.message.find(e.expected), std::string::npos) << e.message << "\nexpected: " << e.expected;

@@ -22,9 +22,9 @@
 
 namespace unisph::sph {
 
-// 2: time.cells_per_cutoff; 3: obstacles; 4: initial.settling_* (older versions are refused
-// with one line).
-inline constexpr std::uint32_t solver_checkpoint_version = 4;
+// 2: time.cells_per_cutoff; 3: obstacles; 4: initial.settling_*; 5: time.last_acoustic_step
+// (older versions are refused with one line).
+inline constexpr std::uint32_t solver_checkpoint_version = 5;
 
 void write_case(io::CheckpointWriter& out, const CaseDescription& c);
 CaseDescription read_case(io::CheckpointReader& in);
