@@ -321,7 +321,8 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
                  ") is thinner than one particle spacing dx = " + Reader::format(c.dx));
 
   const toml::table& fluid = r.table(root, "fluid", true);
-  r.only_keys(fluid, "fluid.", {"density", "sound_speed", "reference_velocity", "viscosity", "continuity_dissipation"});
+  r.only_keys(fluid, "fluid.", {"density", "sound_speed", "reference_velocity", "viscosity", "continuity_dissipation",
+                          "free_surface_density"});
   c.density = r.positive(fluid, "fluid.", "density");
   c.sound_speed = r.positive(fluid, "fluid.", "sound_speed");
   c.reference_velocity = r.positive(fluid, "fluid.", "reference_velocity");
@@ -331,6 +332,11 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
       r.fail(node, "fluid.continuity_dissipation", std::string("must be true or false (it is a ") + Reader::type_name(*node) + ")");
     c.continuity_dissipation = node->as_boolean()->get();
   }
+  const std::string reference = "reference";
+  c.free_surface_density = r.text(fluid, "fluid.", "free_surface_density", &reference);
+  if (c.free_surface_density != "reference" && c.free_surface_density != "carried")
+    r.fail(fluid.get("free_surface_density"), "fluid.free_surface_density",
+           "must be \"reference\" or \"carried\" (it is \"" + c.free_surface_density + "\")");
 
   const toml::table& physics = r.table(root, "physics", true);
   r.only_keys(physics, "physics.", {"gravity"});

@@ -19,6 +19,7 @@ void write_case(io::CheckpointWriter& out, const CaseDescription& c) {
   out.f64(c.reference_velocity);
   out.f64(c.viscosity);
   out.u32(c.continuity_dissipation ? 1 : 0);
+  out.string(c.free_surface_density);
   out.f64(c.gravity);
   out.u32(c.hydrostatic ? 1 : 0);
   out.f64(c.settling_time);
@@ -60,6 +61,7 @@ CaseDescription read_case(io::CheckpointReader& in) {
   c.reference_velocity = in.f64();
   c.viscosity = in.f64();
   c.continuity_dissipation = in.u32() != 0;
+  c.free_surface_density = in.string();
   c.gravity = in.f64();
   c.hydrostatic = in.u32() != 0;
   c.settling_time = in.f64();
@@ -129,6 +131,7 @@ std::string physics_difference(const CaseDescription& a, const CaseDescription& 
   field("fluid.reference_velocity", a.reference_velocity, b.reference_velocity);
   field("fluid.viscosity", a.viscosity, b.viscosity);
   field("fluid.continuity_dissipation", a.continuity_dissipation, b.continuity_dissipation);
+  field("fluid.free_surface_density", a.free_surface_density, b.free_surface_density);
   field("physics.gravity", a.gravity, b.gravity);
   field("initial.state is hydrostatic", a.hydrostatic, b.hydrostatic);
   field("time.sort_every", a.sort_every, b.sort_every);

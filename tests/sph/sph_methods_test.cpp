@@ -177,6 +177,10 @@ TEST(HostSphCaseFile, OneLineErrorsNameFileLineAndKey) {
        "case.toml:14: key 'initial.settling_damping': needs initial.settling_time > 0"},
       {replaced(valid_case, "[physics]", "[initial]\nsettling_time = 1.0\nsettling_damping = 0\n[physics]"),
        "case.toml:15: key 'initial.settling_damping': must be positive"},
+      {replaced(valid_case, "density = 1000.0", "density = 1000.0\nfree_surface_density = 1"),
+       "key 'fluid.free_surface_density': must be a string"},
+      {replaced(valid_case, "density = 1000.0", "density = 1000.0\nfree_surface_density = \"max\""),
+       "key 'fluid.free_surface_density': must be \"reference\" or \"carried\" (it is \"max\")"},
       {replaced(valid_case, "end = 0.5", "end = 0.5\nlast_acoustic_step = \"whole\""),
        "case.toml:17: key 'time.last_acoustic_step': must be \"shortened\" or \"full\" (it is \"whole\")"},
       // Values and keys that hold a line break are quoted with it escaped (found by fuzz/case_fuzzer.cpp):

@@ -36,6 +36,9 @@ struct CaseDescription {
   double reference_velocity = 0;  // U
   double viscosity = 0;           // dynamic viscosity mu
   bool continuity_dissipation = false;  // Riemann velocity dissipation in the continuity equation
+  // Density summation where the kernel sum falls short (density_summation.hpp): "reference"
+  // (max(rho_sum, rho0)) or "carried" (the shortfall from the carried density added back).
+  std::string free_surface_density = "reference";
   // [physics]
   double gravity = 0;  // |g|, acting along -y
   // [initial]

@@ -6,10 +6,16 @@
 // sigma0 is the lattice sum of W (WendlandC2Kernel::lattice_sum), V_i0 = dx^D, so a particle
 // inside a fluid at rest on the initial lattice gets exactly its initial density. Wall dummy
 // particles count as fluid of particle i's own density (they are its mirror). Near a free
-// surface the sum lacks neighbours and underestimates the density; the correction sets the
-// reference density there (zero pressure, no tension):  rho_i <- max(rho_sum, rho0).
-// Everywhere else the summed density replaces the one the continuity equation carried, so
-// its drift does not accumulate over advection steps.
+// surface the sum lacks neighbours and underestimates the density. The correction, in one of
+// two forms (fluid.free_surface_density), both of SPHinXsys' lineage:
+//   "reference": rho_i <- max(rho_sum, rho0): the reference density where the sum falls short
+//                (zero pressure, no tension); SPHinXsys' form since about 2023;
+//   "carried":   rho_i <- rho_sum + max(0, rho_n - rho_sum) rho0 / rho_n, rho_n the density the
+//                continuity equation carried: where the sum falls short of it, the shortfall is
+//                added back (scaled by rho0 / rho_n); SPHinXsys' earlier form, with which its
+//                regression records of the 2D dam break were made (docs/validation.md).
+// Where the sum is the larger, it replaces the carried density, so the continuity equation's
+// drift does not accumulate over advection steps.
 #include <type_traits>
 
 #include "unisph/dynamics/local_dynamics.hpp"
@@ -24,8 +30,9 @@ template <class T, int D>
 class DensitySummationFreeSurface : public InteractionDynamics<DensitySummationFreeSurface<T, D>> {
  public:
   DensitySummationFreeSurface(FluidVariables<T, D>& fluid, InnerRelation<T, D>& inner, ContactRelation<T, D>& wall,
-                              WendlandC2Kernel<T, D> kernel, T dx, T reference_density)
-      : fluid_(fluid), inner_(inner), wall_(wall), kernel_(kernel), reference_density_(reference_density) {
+                              WendlandC2Kernel<T, D> kernel, T dx, T reference_density, bool add_back_shortfall)
+      : fluid_(fluid), inner_(inner), wall_(wall), kernel_(kernel), reference_density_(reference_density),
+        add_back_shortfall_(add_back_shortfall) {
     T volume = T(1);
     for (int a = 0; a < D; ++a) volume *= dx;
     inverse_reference_sum_ = T(1) / (volume * kernel.lattice_sum(dx));
@@ -40,6 +47,7 @@ class DensitySummationFreeSurface : public InteractionDynamics<DensitySummationF
     View<T> density;
     WendlandC2Kernel<T, D> kernel;
     T self_weight, inverse_reference_sum, reference_density;
+    bool add_back_shortfall;  // "carried" (above)
 
     UNISPH_HOST_DEVICE void interaction(Index i, Real) const {
       T sum = mass[i] * self_weight;
@@ -48,14 +56,21 @@ class DensitySummationFreeSurface : public InteractionDynamics<DensitySummationF
       wall.for_each_neighbor(i, [&](Index, const NeighborPair<T, D>& p) { wall_sum += kernel.value(p.distance()); });
       sum += mass[i] * wall_sum;  // the wall's volume is dx^D, as V_i0
       const T summed = sum * inverse_reference_sum;
-      density[i] = summed > reference_density ? summed : reference_density;
+      if (add_back_shortfall) {
+        const T carried = density[i];
+        const T shortfall = carried - summed;
+        density[i] = shortfall > T(0) ? summed + shortfall * (reference_density / carried) : summed;
+      } else {
+        density[i] = summed > reference_density ? summed : reference_density;
+      }
     }
   };
   static_assert(std::is_trivially_copyable_v<Kernel>, "The density summation kernel is copied to the device byte for byte.");
 
   Kernel make_kernel(KernelContext& context) {
-    return {inner_.search(context), wall_.search(context), context.read(fluid_.mass), context.write(fluid_.density),
-            kernel_, self_weight_, inverse_reference_sum_, reference_density_};
+    return {inner_.search(context), wall_.search(context), context.read(fluid_.mass),
+            context.read_write(fluid_.density), kernel_, self_weight_, inverse_reference_sum_, reference_density_,
+            add_back_shortfall_};
   }
   Index size() const { return fluid_.size(); }
 
@@ -65,6 +80,7 @@ class DensitySummationFreeSurface : public InteractionDynamics<DensitySummationF
   ContactRelation<T, D>& wall_;
   WendlandC2Kernel<T, D> kernel_;
   T reference_density_;
+  bool add_back_shortfall_;
   T inverse_reference_sum_ = T(1);
   T self_weight_ = T(0);
 };

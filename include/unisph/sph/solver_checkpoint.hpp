@@ -22,7 +22,7 @@
 
 namespace unisph::sph {
 
-// 2: time.cells_per_cutoff; 3: obstacles; 4: initial.settling_*; 5: time.last_acoustic_step
+// 2: time.cells_per_cutoff; 3: obstacles; 4: initial.settling_*; 5: time.last_acoustic_step and fluid.free_surface_density
 // (older versions are refused with one line).
 inline constexpr std::uint32_t solver_checkpoint_version = 5;
 

@@ -100,7 +100,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
         riemann(AcousticRiemannSolver<T>::make(T(c.density), T(c.sound_speed))),
         wall_volume(volume_of(c.dx)),
         criteria{double(kernel.h), c.reference_velocity, c.sound_speed, c.viscosity / c.density},
-        density_summation(fluid, inner, contact, kernel, T(c.dx), T(c.density)),
+        density_summation(fluid, inner, contact, kernel, T(c.dx), T(c.density), c.free_surface_density == "carried"),
         prior_acceleration(fluid, inner, contact, kernel, gravity_of(c), T(c.viscosity), wall_volume),
         pressure_start(fluid, eos),
         wall_free(WallFreeBox<T, D>::of_tank(c.tank, particles.wall, double(kernel.cutoff()))),
