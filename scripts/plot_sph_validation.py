@@ -56,16 +56,21 @@ WALL_PROBES = [("wall_0.01H", 0.01, "lobovsky_2014_sensor1.csv", "Lobovsky et al
                ("wall_0.267H", 0.2667, "lobovsky_2014_sensor4.csv", "Lobovsky et al. (2014)")]
 
 
+def runs_with_wall_probes(root, runs):
+    """(label, observer columns) of each (folder, label) in runs present under root with the wall probes."""
+    for folder, label in runs:
+        d = read_observers(os.path.join(root, folder))
+        if d and "p_star_wall_0.1H" in d:
+            yield label, d
+
+
 def pressure_profile(root, images):
     """Mean wall pressure over t sqrt(g/H) in [3.5, 5] against height, per resolution, beside the sensors."""
     runs = [("dambreak_2d", "H/dx = 40"), ("dambreak_2d_H80", "H/dx = 80"), ("dambreak_2d_H160", "H/dx = 160"),
             ("dambreak_2d_H320", "H/dx = 320")]
     fig, ax = plt.subplots(figsize=(5, 4.5))
     drawn = False
-    for folder, label in runs:
-        d = read_observers(os.path.join(root, folder))
-        if not d or "p_star_wall_0.1H" not in d:
-            continue
+    for label, d in runs_with_wall_probes(root, runs):
         heights = [y for name, y, _, _ in WALL_PROBES]
         means = [window_mean(d["time_star"], d["p_star_" + name], 3.5, 5.0) for name, _, _, _ in WALL_PROBES]
         ax.plot(means, heights, "o-", ms=4, label="unisph, " + label)
@@ -97,10 +102,7 @@ def arrival_at_probes(root, images):
             ("dambreak_3d", "3D (Lobovsky's tank)")]
     fig, ax = plt.subplots(figsize=(5.5, 4.5))
     drawn = False
-    for folder, label in runs:
-        d = read_observers(os.path.join(root, folder))
-        if not d or "p_star_wall_0.1H" not in d:
-            continue
+    for label, d in runs_with_wall_probes(root, runs):
         times = [first_crossing(d["time_star"], d["p_star_" + name]) for name, _, _, _ in WALL_PROBES]
         ax.plot(times, [y for _, y, _, _ in WALL_PROBES], "o-", ms=4, lw=1, label="unisph, " + label)
         print("%-22s %s" % (label, "  ".join("%s %.3f" % (n, c) for (n, _, _, _), c in zip(WALL_PROBES, times))))

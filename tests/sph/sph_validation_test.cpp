@@ -51,10 +51,11 @@ struct Series {
   }
 };
 
-Series read_csv(const std::string& name) {
+// The cells of a validation CSV's data rows: after its '#' comment lines and its header row.
+std::vector<std::vector<std::string>> data_rows(const std::string& name) {
   std::ifstream in(std::string(UNISPH_VALIDATION_DATA_DIR) + "/" + name);
   EXPECT_TRUE(in.good()) << name;
-  Series s;
+  std::vector<std::vector<std::string>> rows;
   std::string line;
   bool header = true;
   while (std::getline(in, line)) {
@@ -64,11 +65,19 @@ Series read_csv(const std::string& name) {
       continue;
     }
     std::istringstream fields(line);
-    std::string a, b;
-    std::getline(fields, a, ',');
-    std::getline(fields, b, ',');
-    s.t.push_back(std::stod(a));
-    s.y.push_back(std::stod(b));
+    std::vector<std::string> cells;
+    for (std::string cell; std::getline(fields, cell, ',');) cells.push_back(cell);
+    rows.push_back(cells);
+  }
+  return rows;
+}
+
+// A two-column series (time, value).
+Series read_csv(const std::string& name) {
+  Series s;
+  for (const auto& row : data_rows(name)) {
+    s.t.push_back(std::stod(row.at(0)));
+    s.y.push_back(std::stod(row.at(1)));
   }
   return s;
 }
@@ -76,27 +85,15 @@ Series read_csv(const std::string& name) {
 // A CSV of one index column and several record columns (empty cells: a record that ended).
 struct Records {
   std::vector<long long> index;
-  std::vector<std::vector<double>> values;  // per row, the records that have one (NaN where not)
+  std::vector<std::vector<double>> values;  // per row, the records' values (NaN where a record ended)
 };
 Records read_records(const std::string& name) {
-  std::ifstream in(std::string(UNISPH_VALIDATION_DATA_DIR) + "/" + name);
-  EXPECT_TRUE(in.good()) << name;
   Records r;
-  std::string line;
-  bool header = true;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    if (header) {
-      header = false;
-      continue;
-    }
-    std::istringstream fields(line);
-    std::string cell;
-    std::getline(fields, cell, ',');
-    r.index.push_back(std::stoll(cell));
-    std::vector<double> row;
-    while (std::getline(fields, cell, ',')) row.push_back(cell.empty() ? std::nan("") : std::stod(cell));
-    r.values.push_back(row);
+  for (const auto& row : data_rows(name)) {
+    r.index.push_back(std::stoll(row.at(0)));
+    std::vector<double> values;
+    for (std::size_t k = 1; k < row.size(); ++k) values.push_back(row[k].empty() ? std::nan("") : std::stod(row[k]));
+    r.values.push_back(values);
   }
   return r;
 }
