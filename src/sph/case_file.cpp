@@ -118,6 +118,21 @@ struct Reader {
     if (auto s = node->as_string()) return s->get();
     fail(node, prefix + key, std::string("must be a string (it is a ") + type_name(*node) + ")");
   }
+  // One of a few words; the first is the default where the key is absent.
+  std::string choice(const toml::table& table, const std::string& prefix, const std::string& key,
+                     std::initializer_list<std::string_view> words) const {
+    const std::string fallback(*words.begin());
+    std::string value = text(table, prefix, key, &fallback);
+    std::string list;  // "a", "b" or "c"
+    std::size_t k = 0;
+    for (auto w : words) {
+      if (value == w) return value;
+      if (k > 0) list += k + 1 == words.size() ? " or " : ", ";
+      list.append("\"").append(w).append("\"");
+      ++k;
+    }
+    fail(table.get(key), prefix + key, "must be " + list + " (it is \"" + value + "\")");
+  }
   long long integer(const toml::table& table, const std::string& prefix, const std::string& key, const long long* fallback) const {
     const toml::node* node = table.get(key);
     if (!node) {
@@ -340,11 +355,7 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
       r.fail(node, "fluid.continuity_dissipation", std::string("must be true or false (it is a ") + Reader::type_name(*node) + ")");
     c.continuity_dissipation = node->as_boolean()->get();
   }
-  const std::string reference = "reference";
-  c.free_surface_density = r.text(fluid, "fluid.", "free_surface_density", &reference);
-  if (c.free_surface_density != "reference" && c.free_surface_density != "carried")
-    r.fail(fluid.get("free_surface_density"), "fluid.free_surface_density",
-           "must be \"reference\" or \"carried\" (it is \"" + c.free_surface_density + "\")");
+  c.free_surface_density = r.choice(fluid, "fluid.", "free_surface_density", {"reference", "carried"});
 
   const toml::table& physics = r.table(root, "physics", true);
   r.only_keys(physics, "physics.", {"gravity"});
@@ -352,11 +363,7 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
 
   const toml::table& initial = r.table(root, "initial", false);
   r.only_keys(initial, "initial.", {"state", "settling_time", "settling_damping"});
-  const std::string rest = "rest";
-  const std::string state = r.text(initial, "initial.", "state", &rest);
-  if (state != "rest" && state != "hydrostatic")
-    r.fail(initial.get("state"), "initial.state", "must be \"rest\" or \"hydrostatic\" (it is \"" + state + "\")");
-  c.hydrostatic = state == "hydrostatic";
+  c.hydrostatic = r.choice(initial, "initial.", "state", {"rest", "hydrostatic"}) == "hydrostatic";
   c.settling_time = r.non_negative(initial, "initial.", "settling_time", 0.0);
   // By default the damping's time scale is twice the column's height over the reference speed
   // (hydrostatic_2d: 1 per unit of time; twice that settled worse, docs/sph.md "Settling").
@@ -380,16 +387,8 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
   if (sort_every < 1) r.fail(time.get("sort_every"), "time.sort_every", "must be at least 1");
   c.sort_every = int(sort_every);
   c.checkpoint_every = r.non_negative(time, "time.", "checkpoint_every", 0.0);
-  const std::string automatic = "automatic";
-  c.neighbor_search = r.text(time, "time.", "neighbor_search", &automatic);
-  if (c.neighbor_search != "automatic" && c.neighbor_search != "stored" && c.neighbor_search != "direct")
-    r.fail(time.get("neighbor_search"), "time.neighbor_search",
-           "must be \"automatic\", \"stored\" or \"direct\" (it is \"" + c.neighbor_search + "\")");
-  const std::string shortened = "shortened";
-  c.last_acoustic_step = r.text(time, "time.", "last_acoustic_step", &shortened);
-  if (c.last_acoustic_step != "shortened" && c.last_acoustic_step != "full")
-    r.fail(time.get("last_acoustic_step"), "time.last_acoustic_step",
-           "must be \"shortened\" or \"full\" (it is \"" + c.last_acoustic_step + "\")");
+  c.neighbor_search = r.choice(time, "time.", "neighbor_search", {"automatic", "stored", "direct"});
+  c.last_acoustic_step = r.choice(time, "time.", "last_acoustic_step", {"shortened", "full"});
   const long long automatic_cells = 0;
   const long long cells_per_cutoff = r.integer(time, "time.", "cells_per_cutoff", &automatic_cells);
   if (cells_per_cutoff < 0 || cells_per_cutoff > 2)

@@ -185,6 +185,8 @@ TEST(HostSphCaseFile, OneLineErrorsNameFileLineAndKey) {
        "key 'fluid.free_surface_density': must be a string"},
       {replaced(valid_case, "density = 1000.0", "density = 1000.0\nfree_surface_density = \"max\""),
        "key 'fluid.free_surface_density': must be \"reference\" or \"carried\" (it is \"max\")"},
+      {replaced(valid_case, "end = 0.5", "end = 0.5\nneighbor_search = \"grid\""),
+       "case.toml:17: key 'time.neighbor_search': must be \"automatic\", \"stored\" or \"direct\" (it is \"grid\")"},
       {replaced(valid_case, "end = 0.5", "end = 0.5\nlast_acoustic_step = \"whole\""),
        "case.toml:17: key 'time.last_acoustic_step': must be \"shortened\" or \"full\" (it is \"whole\")"},
       // Values and keys that hold a line break are quoted with it escaped (found by fuzz/case_fuzzer.cpp):
