@@ -135,9 +135,13 @@ class BvhBuilder {
     return middle;
   }
 
+  // Clamped before the conversion: with coordinates near the largest double, 16 (x - lo)
+  // overflows to infinity (or x - lo does, giving NaN), and converting those to int is undefined
+  // (found by the polygon fuzzer). Finite values get the bins they always had.
   static int bin_of(double x, double lo, double extent) {
-    const int b = int(16.0 * (x - lo) / extent);
-    return b < 0 ? 0 : (b > 15 ? 15 : b);
+    const double b = 16.0 * (x - lo) / extent;
+    if (!(b > 0.0)) return 0;
+    return b >= 15.0 ? 15 : int(b);
   }
 
   std::span<const Vec<double, D>> lo_, hi_;

@@ -62,4 +62,22 @@ TEST(HostBvh, IdenticalPrimitivesAndTwoDimensions) {
   EXPECT_TRUE(build_bvh<2>({}, {}, 4).nodes.empty());
 }
 
+// Boxes that reach the largest doubles (a polygon file with a vertex at y = 1.22e308, found by the
+// polygon fuzzer): the binning must not overflow into an undefined conversion, and the tree stays whole.
+TEST(HostBvh, CoordinatesNearTheLargestDouble) {
+  const double big = 1.2222e308;
+  std::vector<Vec<double, 2>> lo, hi;
+  for (int i = 0; i < 40; ++i) {
+    lo.push_back({{double(i), 0.0}});
+    hi.push_back({{double(i) + 1, i % 3 == 0 ? big : 1.0}});
+  }
+  lo.push_back({{-big, -big}});
+  hi.push_back({{big, big}});
+  const BvhLayout<2> bvh = build_bvh<2>(lo, hi, 4);
+  std::vector<int> seen(lo.size(), 0);
+  const int depth = check_node(bvh, 0, lo, hi, seen);
+  for (int s : seen) EXPECT_EQ(s, 1);
+  EXPECT_LT(depth, bvh_max_depth);
+}
+
 }  // namespace
