@@ -6,7 +6,7 @@
 #include <cstdlib>
 #include <string_view>
 
-#include "unisph/sph/case_file.hpp"
+#include "unisph/solver/case_file.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);

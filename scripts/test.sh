@@ -19,6 +19,9 @@ stage() {
 stage "set-up"
 scripts/setup.sh
 
+stage "module graph: no include points up (scripts/check_includes.sh)"
+scripts/check_includes.sh
+
 stage "configure + build (default preset)"
 cmake --preset default
 cmake --build --preset default -j "$jobs"

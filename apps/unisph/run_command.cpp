@@ -14,9 +14,9 @@
 #include "commands.hpp"
 #include "unisph/exec/policy.hpp"
 #include "unisph/io/vtk_xml_writer.hpp"
-#include "unisph/sph/case_file.hpp"
-#include "unisph/sph/solver_checkpoint.hpp"
-#include "unisph/sph/weakly_compressible_solver.hpp"
+#include "unisph/solver/case_file.hpp"
+#include "unisph/solver/solver_checkpoint.hpp"
+#include "unisph/solver/weakly_compressible_solver.hpp"
 
 namespace unisph::app {
 namespace {

@@ -48,8 +48,8 @@
 #include "unisph/grid/package_for.hpp"
 #include "unisph/grid/package_mesh.hpp"
 #include "unisph/iter/iter.hpp"
-#include "unisph/iter/neighbor_views.hpp"
-#include "unisph/iter/package_traits.hpp"
+#include "unisph/neighbor/neighbor_views.hpp"
+#include "unisph/grid/package_traits.hpp"
 #include "unisph/neighbor/inner_relation.hpp"
 #include "unisph/unisph.hpp"
 

@@ -38,9 +38,9 @@
 #include <vector>
 
 #include "unisph/exec/policy.hpp"
-#include "unisph/sph/case_file.hpp"
-#include "unisph/sph/solver_checkpoint.hpp"
-#include "unisph/sph/weakly_compressible_solver.hpp"
+#include "unisph/solver/case_file.hpp"
+#include "unisph/solver/solver_checkpoint.hpp"
+#include "unisph/solver/weakly_compressible_solver.hpp"
 
 #if UNISPH_HAS_CUDA
 #include <cuda_runtime.h>

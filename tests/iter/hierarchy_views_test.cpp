@@ -17,9 +17,9 @@
 #include "unisph/exec/atomic.hpp"
 #include "unisph/grid/package_for.hpp"
 #include "unisph/grid/package_mesh.hpp"
-#include "unisph/iter/cell_list_traits.hpp"
+#include "unisph/neighbor/cell_list_traits.hpp"
 #include "unisph/iter/collective_for.hpp"
-#include "unisph/iter/package_traits.hpp"
+#include "unisph/grid/package_traits.hpp"
 #include "unisph/iter/view.hpp"
 
 namespace {

@@ -16,7 +16,7 @@
 #include "neighbor/neighbor_scenarios.hpp"
 #include "support/policy_test.hpp"
 #include "unisph/exec/algorithms.hpp"
-#include "unisph/iter/neighbor_views.hpp"
+#include "unisph/neighbor/neighbor_views.hpp"
 #include "unisph/neighbor/inner_relation.hpp"
 
 namespace {

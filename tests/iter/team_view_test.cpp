@@ -14,7 +14,7 @@
 #include "support/policy_test.hpp"
 #include "unisph/exec/algorithms.hpp"
 #include "unisph/iter/collective_for.hpp"
-#include "unisph/iter/package_traits.hpp"
+#include "unisph/grid/package_traits.hpp"
 #include "unisph/iter/view.hpp"
 
 namespace {

@@ -490,7 +490,7 @@ TYPED_TEST(LevelSetTest, TriangleSoupGivesNoNaN) {
 // Half-space y_0 > c: weight = F(s) = ∫_{-2h}^{s} W1(t) dt and gradient = W1(s) e_0, s = x_0 - c,
 // with W1(t) = 2 pi ∫_{|t|}^{2h} W(r) r dr the kernel's marginal along one axis.
 struct HalfSpaceKernelIntegrals {
-  sph::WendlandC2Kernel<double, 3> kernel;
+  WendlandC2Kernel<double, 3> kernel;
   mutable std::map<double, double> weights;
   double marginal(double t) const {
     const double a = std::fabs(t), b = kernel.cutoff();
@@ -524,7 +524,7 @@ TYPED_TEST(LevelSetTest, KernelIntegralsAgainstTheHalfSpace) {
   const Real dx = Real(1) / 64;
   MultiResolutionLevelSet<3> level_set(this->policy, box, box.centre - box.half, box.centre + box.half, dx, 2);
   LevelSetLayer<3>& finest = level_set.finest();
-  const HalfSpaceKernelIntegrals exact{sph::WendlandC2Kernel<double, 3>::from_spacing(double(dx)), {}};
+  const HalfSpaceKernelIntegrals exact{WendlandC2Kernel<double, 3>::from_spacing(double(dx)), {}};
   const std::vector<std::uint64_t> cells = finest.mesh.package_cell.to_vector();
   const std::vector<Real> weight = finest.kernel_weight.to_vector();
   const std::vector<Vec3> gradient = finest.kernel_gradient.to_vector();
@@ -563,7 +563,7 @@ TYPED_TEST(LevelSetTest, KernelIntegralsNextToASphere) {
   const SphereShape<3> sphere{Vec3{{0.0, 0.0, 0.0}}, Real(0.5)};
   const Real dx = Real(1) / 64;
   MultiResolutionLevelSet<3> level_set(this->policy, sphere, Vec3::constant(-0.5), Vec3::constant(0.5), dx, 2);
-  const auto kernel = sph::WendlandC2Kernel<double, 3>::from_spacing(double(dx));
+  const auto kernel = WendlandC2Kernel<double, 3>::from_spacing(double(dx));
   const double step = double(dx) / 16, cutoff = kernel.cutoff();
   const int reach = int(std::ceil(cutoff / step));
   std::vector<Vec3> points;
@@ -620,7 +620,7 @@ TYPED_TEST(LevelSetTest, KernelIntegralsNextToAnEdgeAndACorner) {
   const Real dx = Real(1) / 64;
   MultiResolutionLevelSet<3> level_set(this->policy, box, box.centre - box.half, box.centre + box.half, dx, 2);
   LevelSetLayer<3>& finest = level_set.finest();
-  const auto kernel = sph::WendlandC2Kernel<double, 3>::from_spacing(double(dx));
+  const auto kernel = WendlandC2Kernel<double, 3>::from_spacing(double(dx));
   const double step = double(dx) / 8, cutoff = kernel.cutoff();
   const int reach = int(std::ceil(cutoff / step));
   const std::vector<std::uint64_t> cells = finest.mesh.package_cell.to_vector();

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "unisph/neighbor/box.hpp"
+#include "unisph/core/box.hpp"
 
 namespace unisph::testing {
 

@@ -17,8 +17,8 @@
 
 #include "support/policy_test.hpp"
 #include "unisph/io/checkpoint_file.hpp"
-#include "unisph/sph/solver_checkpoint.hpp"
-#include "unisph/sph/weakly_compressible_solver.hpp"
+#include "unisph/solver/solver_checkpoint.hpp"
+#include "unisph/solver/weakly_compressible_solver.hpp"
 
 using namespace unisph;
 using namespace unisph::sph;

@@ -12,12 +12,12 @@
 
 #include "support/policy_test.hpp"
 #include "unisph/sph/acoustic_riemann_solver.hpp"
-#include "unisph/sph/case_file.hpp"
+#include "unisph/solver/case_file.hpp"
 #include "unisph/sph/fluid_variables.hpp"
-#include "unisph/sph/tank_particles.hpp"
+#include "unisph/solver/tank_particles.hpp"
 #include "unisph/sph/wall_free_box.hpp"
-#include "unisph/sph/weakly_compressible_solver.hpp"
-#include "unisph/sph/wendland_kernel.hpp"
+#include "unisph/solver/weakly_compressible_solver.hpp"
+#include "unisph/smoothing/wendland_kernel.hpp"
 
 using namespace unisph;
 using namespace unisph::sph;

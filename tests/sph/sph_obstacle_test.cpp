@@ -25,9 +25,9 @@
 #include "unisph/io/checkpoint_file.hpp"
 #include "unisph/io/vtk_xml_reader.hpp"
 #include "unisph/io/vtk_xml_writer.hpp"
-#include "unisph/sph/case_file.hpp"
-#include "unisph/sph/solver_checkpoint.hpp"
-#include "unisph/sph/weakly_compressible_solver.hpp"
+#include "unisph/solver/case_file.hpp"
+#include "unisph/solver/solver_checkpoint.hpp"
+#include "unisph/solver/weakly_compressible_solver.hpp"
 
 using namespace unisph;
 using namespace unisph::sph;

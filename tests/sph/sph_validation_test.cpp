@@ -13,8 +13,8 @@
 #include <utility>
 #include <vector>
 
-#include "unisph/sph/case_file.hpp"
-#include "unisph/sph/weakly_compressible_solver.hpp"
+#include "unisph/solver/case_file.hpp"
+#include "unisph/solver/weakly_compressible_solver.hpp"
 
 using namespace unisph;
 using namespace unisph::sph;

@@ -26,7 +26,7 @@
 #include "unisph/grid/cell_tag.hpp"
 #include "unisph/grid/package_grid.hpp"
 #include "unisph/iter/collective_for.hpp"
-#include "unisph/iter/package_traits.hpp"
+#include "unisph/grid/package_traits.hpp"
 #include "unisph/iter/view.hpp"
 
 namespace unisph {

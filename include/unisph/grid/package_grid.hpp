@@ -12,7 +12,7 @@
 
 #include "unisph/core/config.hpp"
 #include "unisph/core/vector.hpp"
-#include "unisph/neighbor/uncontracted_arithmetic.hpp"
+#include "unisph/core/uncontracted_arithmetic.hpp"
 
 namespace unisph {
 

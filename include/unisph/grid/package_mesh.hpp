@@ -22,7 +22,7 @@
 #include "unisph/grid/neighbour_index_shift.hpp"
 #include "unisph/grid/package_grid.hpp"
 #include "unisph/memory/discrete_variable.hpp"
-#include "unisph/neighbor/morton_key.hpp"
+#include "unisph/core/morton_key.hpp"
 
 namespace unisph {
 

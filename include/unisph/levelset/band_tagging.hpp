@@ -18,7 +18,7 @@
 #include "unisph/grid/package_grid.hpp"
 #include "unisph/memory/view.hpp"
 #include "unisph/levelset/shape_search.hpp"
-#include "unisph/neighbor/uncontracted_arithmetic.hpp"
+#include "unisph/core/uncontracted_arithmetic.hpp"
 
 namespace unisph {
 

@@ -36,7 +36,7 @@
 #include "unisph/core/vector.hpp"
 #include "unisph/grid/neighbour_index_shift.hpp"
 #include "unisph/memory/view.hpp"
-#include "unisph/sph/wendland_kernel.hpp"
+#include "unisph/smoothing/wendland_kernel.hpp"
 
 namespace unisph {
 
@@ -61,7 +61,7 @@ inline constexpr int kernel_integral_subdivision = 2;
 // from the plane (positive outside).
 template <int D>
 struct HalfSpaceKernelIntegral {
-  sph::WendlandC2Kernel<Real, D> kernel;
+  WendlandC2Kernel<Real, D> kernel;
 
   // Gauss-Legendre nodes and weights on [-1, 1]: 4 points in 3D (exact: polynomial integrands),
   // 8 points in 2D.
@@ -125,7 +125,7 @@ UNISPH_HOST_DEVICE inline Real sub_cell_offset(int cell, int sub) {
 // Sum of W over the sub-cell centres of all space around a point (the normalisation of the
 // correction sum: Σ W V_sub ≈ 1, made exact).
 template <int D>
-inline Real sub_cell_lattice_sum(const sph::WendlandC2Kernel<Real, D>& kernel, Real spacing) {
+inline Real sub_cell_lattice_sum(const WendlandC2Kernel<Real, D>& kernel, Real spacing) {
   const int s = kernel_integral_subdivision;
   const int reach = int(std::ceil(double(kernel.cutoff()) / double(spacing))) + 1;
   const int width = 2 * reach + 1;

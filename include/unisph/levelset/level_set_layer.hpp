@@ -21,7 +21,7 @@
 #include "unisph/levelset/regularized_gradient.hpp"
 #include "unisph/levelset/shape_search.hpp"
 #include "unisph/memory/discrete_variable.hpp"
-#include "unisph/neighbor/uncontracted_arithmetic.hpp"
+#include "unisph/core/uncontracted_arithmetic.hpp"
 
 namespace unisph {
 
@@ -280,8 +280,8 @@ class LevelSetLayer {
     particle_for(policy, Index(far_field_packages) * package_points<D>,
                  level_set_kernels::FarFieldKernelIntegrals<D>{weight, gradient});
     const Real dx = grid().data_spacing;
-    const auto kernel = sph::WendlandC2Kernel<Real, D>::from_spacing(
-        smoothing_length / sph::WendlandC2Kernel<Real, D>::smoothing_length_ratio);
+    const auto kernel = WendlandC2Kernel<Real, D>::from_spacing(
+        smoothing_length / WendlandC2Kernel<Real, D>::smoothing_length_ratio);
     data_point_for(policy, mesh,
                    KernelIntegralsAtDataPoints<D>{phi.read(policy), normal.read(policy), mesh.neighbourhood.read(policy),
                                                   weight, gradient, HalfSpaceKernelIntegral<D>{kernel}, dx,

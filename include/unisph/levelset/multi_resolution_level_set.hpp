@@ -73,7 +73,7 @@ class MultiResolutionLevelSet {
                           bool clean_small_features = true)
       : with_kernel_integrals_(with_kernel_integrals),
         clean_small_features_(clean_small_features),
-        smoothing_length_(sph::WendlandC2Kernel<Real, D>::smoothing_length_ratio * data_spacing) {
+        smoothing_length_(WendlandC2Kernel<Real, D>::smoothing_length_ratio * data_spacing) {
     if (!(data_spacing > Real(0))) throw Error("level set: the data spacing must be positive");
     Real longest = Real(0);
     for (int k = 0; k < D; ++k) longest = hi[k] - lo[k] > longest ? hi[k] - lo[k] : longest;

@@ -1,6 +1,8 @@
 #pragma once
 // Where data lives and how an access uses it.
 
+#include <concepts>
+
 namespace unisph {
 
 enum class MemorySpace { host = 0, device = 1 };
@@ -10,6 +12,13 @@ enum class MemorySpace { host = 0, device = 1 };
 // (every element will be written) and makes this side the only current one; read_write needs
 // the current contents and makes this side the only current one.
 enum class Access { read, write, read_write };
+
+// Anything that names the memory space it runs in as `P::space` (the execution policies of
+// exec/policy.hpp): variables give views in that space without knowing the policies.
+template <class P>
+concept InMemorySpace = requires {
+  { P::space } -> std::convertible_to<MemorySpace>;
+};
 
 inline constexpr const char* to_string(MemorySpace s) { return s == MemorySpace::host ? "host" : "device"; }
 

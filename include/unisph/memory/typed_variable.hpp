@@ -4,7 +4,7 @@
 #include <string>
 #include <type_traits>
 
-#include "unisph/exec/policy.hpp"
+#include "unisph/memory/space.hpp"
 #include "unisph/memory/variable_base.hpp"
 #include "unisph/memory/view.hpp"
 
@@ -30,14 +30,14 @@ class TypedVariable : public VariableBase {
   View<T> write(MemorySpace space) { return view(space, Access::write); }
   View<T> read_write(MemorySpace space) { return view(space, Access::read_write); }
 
-  // The same, in the memory space of an execution policy.
-  template <ExecutionPolicy P>
+  // The same, in the memory space of an execution policy (P::space).
+  template <InMemorySpace P>
   View<T> view(P, Access mode) { return view(P::space, mode); }
-  template <ExecutionPolicy P>
+  template <InMemorySpace P>
   View<const T> read(P) { return read(P::space); }
-  template <ExecutionPolicy P>
+  template <InMemorySpace P>
   View<T> write(P) { return write(P::space); }
-  template <ExecutionPolicy P>
+  template <InMemorySpace P>
   View<T> read_write(P) { return read_write(P::space); }
 
  protected:

@@ -27,7 +27,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "unisph/iter/stencil_traits.hpp"
+#include "unisph/neighbor/stencil_traits.hpp"
 #include "unisph/neighbor/cell_linked_list.hpp"
 #include "unisph/neighbor/neighbor_pair.hpp"
 

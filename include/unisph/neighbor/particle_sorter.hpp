@@ -17,7 +17,7 @@
 
 #include "unisph/exec/algorithms.hpp"
 #include "unisph/neighbor/cell_linked_list.hpp"
-#include "unisph/neighbor/morton_key.hpp"
+#include "unisph/core/morton_key.hpp"
 #include "unisph/neighbor/search_grid.hpp"
 #include "unisph/particles/particle_set.hpp"
 

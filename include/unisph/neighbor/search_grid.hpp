@@ -17,8 +17,8 @@
 
 #include "unisph/core/error.hpp"
 #include "unisph/core/vector.hpp"
-#include "unisph/neighbor/box.hpp"
-#include "unisph/neighbor/uncontracted_arithmetic.hpp"
+#include "unisph/core/box.hpp"
+#include "unisph/core/uncontracted_arithmetic.hpp"
 
 namespace unisph {
 

@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "unisph/neighbor/box.hpp"
+#include "unisph/core/box.hpp"
 #include "unisph/particles/particle_set.hpp"
 
 namespace unisph {

@@ -26,7 +26,7 @@
 #include "unisph/exec/algorithms.hpp"
 #include "unisph/levelset/multi_resolution_level_set_view.hpp"
 #include "unisph/memory/discrete_variable.hpp"
-#include "unisph/neighbor/box.hpp"
+#include "unisph/core/box.hpp"
 
 namespace unisph {
 

@@ -138,7 +138,7 @@ class ParticleRelaxation {
         region_(region),
         box_(box),
         dx_(dx),
-        kernel_(sph::WendlandC2Kernel<Real, D>::from_spacing(dx)) {
+        kernel_(WendlandC2Kernel<Real, D>::from_spacing(dx)) {
     const Real finest = level_set.finest().grid().data_spacing;
     if (std::abs(finest - dx) > Real(1e-6) * dx)
       throw Error("particle relaxation: the level set's finest spacing " + std::to_string(finest) +
@@ -178,7 +178,7 @@ class ParticleRelaxation {
   Body<Real, D>& body() { return *body_; }
   Index size() const { return body_->particles().owned_count(); }
   Real spacing() const { return dx_; }
-  const sph::WendlandC2Kernel<Real, D>& kernel() const { return kernel_; }
+  const WendlandC2Kernel<Real, D>& kernel() const { return kernel_; }
   DiscreteVariable<Position>& positions() { return body_->positions(); }
   DiscreteVariable<Real>& volumes() { return *volume_; }
   // Of the last measure(): -2 (Σ ∇W V + G) and Σ W V + S per particle.
@@ -313,7 +313,7 @@ class ParticleRelaxation {
   SeedRegion region_;
   Box<Real, D> box_;
   Real dx_;
-  sph::WendlandC2Kernel<Real, D> kernel_;
+  WendlandC2Kernel<Real, D> kernel_;
   std::unique_ptr<Body<Real, D>> body_;
   DiscreteVariable<Real>* volume_ = nullptr;
   DiscreteVariable<Position>* residual_ = nullptr;

@@ -8,14 +8,14 @@
 #include <memory>
 
 #include "unisph/levelset/multi_resolution_level_set.hpp"
-#include "unisph/neighbor/box.hpp"
+#include "unisph/core/box.hpp"
 
 namespace unisph {
 
 template <int D, ExecutionPolicy P>
 std::unique_ptr<MultiResolutionLevelSet<D>> make_relaxation_level_set(P policy, ShapeSearch<D>& search,
                                                                       const Box<Real, D>& box, Real dx) {
-  const Real pad = Real(2) * sph::WendlandC2Kernel<Real, D>::smoothing_length_ratio * dx + dx;
+  const Real pad = Real(2) * WendlandC2Kernel<Real, D>::smoothing_length_ratio * dx + dx;
   Vec<Real, D> lo = box.lower, hi = box.upper;
   for (int k = 0; k < D; ++k) {
     lo[k] -= pad;

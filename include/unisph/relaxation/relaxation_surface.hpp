@@ -32,7 +32,7 @@
 
 #include "unisph/levelset/kernel_integrals.hpp"
 #include "unisph/levelset/multi_resolution_level_set_view.hpp"
-#include "unisph/neighbor/box.hpp"
+#include "unisph/core/box.hpp"
 
 namespace unisph {
 

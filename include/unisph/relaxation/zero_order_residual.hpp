@@ -17,7 +17,7 @@
 #include "unisph/dynamics/local_dynamics.hpp"
 #include "unisph/neighbor/inner_relation.hpp"
 #include "unisph/relaxation/relaxation_surface.hpp"
-#include "unisph/sph/wendland_kernel.hpp"
+#include "unisph/smoothing/wendland_kernel.hpp"
 
 namespace unisph {
 
@@ -27,7 +27,7 @@ class ZeroOrderResidual : public InteractionDynamics<ZeroOrderResidual<D>> {
   using Position = Vec<Real, D>;
 
   ZeroOrderResidual(InnerRelation<Real, D>& inner, DiscreteVariable<Real>& volume, DiscreteVariable<Position>& residual,
-                    DiscreteVariable<Real>& kernel_sum, const sph::WendlandC2Kernel<Real, D>& kernel)
+                    DiscreteVariable<Real>& kernel_sum, const WendlandC2Kernel<Real, D>& kernel)
       : inner_(inner), volume_(volume), residual_(residual), kernel_sum_(kernel_sum), kernel_(kernel) {}
 
   // The surface holds a level-set view of one memory space: set it before each launch on
@@ -43,7 +43,7 @@ class ZeroOrderResidual : public InteractionDynamics<ZeroOrderResidual<D>> {
     View<Position> residual;
     View<Real> kernel_sum;
     RelaxationSurface<D> surface;
-    sph::WendlandC2Kernel<Real, D> kernel;
+    WendlandC2Kernel<Real, D> kernel;
 
     UNISPH_HOST_DEVICE void interaction(Index i, Real) const {
       Position gradient{};
@@ -74,7 +74,7 @@ class ZeroOrderResidual : public InteractionDynamics<ZeroOrderResidual<D>> {
   DiscreteVariable<Real>& volume_;
   DiscreteVariable<Position>& residual_;
   DiscreteVariable<Real>& kernel_sum_;
-  sph::WendlandC2Kernel<Real, D> kernel_;
+  WendlandC2Kernel<Real, D> kernel_;
   RelaxationSurface<D> surface_{};
 };
 

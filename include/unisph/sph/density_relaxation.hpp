@@ -23,7 +23,7 @@
 #include "unisph/sph/neighbor_records.hpp"
 #include "unisph/sph/wall_dummy_pressure.hpp"
 #include "unisph/sph/wall_free_box.hpp"
-#include "unisph/sph/wendland_kernel.hpp"
+#include "unisph/smoothing/wendland_kernel.hpp"
 
 namespace unisph::sph {
 

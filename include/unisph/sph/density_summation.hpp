@@ -22,7 +22,7 @@
 #include "unisph/neighbor/contact_relation.hpp"
 #include "unisph/neighbor/inner_relation.hpp"
 #include "unisph/sph/fluid_variables.hpp"
-#include "unisph/sph/wendland_kernel.hpp"
+#include "unisph/smoothing/wendland_kernel.hpp"
 
 namespace unisph::sph {
 

@@ -9,7 +9,7 @@
 #include "unisph/dynamics/local_dynamics.hpp"
 #include "unisph/exec/reduce_ops.hpp"
 #include "unisph/sph/fluid_variables.hpp"
-#include "unisph/sph/wendland_kernel.hpp"
+#include "unisph/smoothing/wendland_kernel.hpp"
 
 namespace unisph::sph {
 

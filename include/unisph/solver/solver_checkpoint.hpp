@@ -18,7 +18,7 @@
 #include <string>
 
 #include "unisph/io/checkpoint_file.hpp"
-#include "unisph/sph/case_description.hpp"
+#include "unisph/solver/case_description.hpp"
 
 namespace unisph::sph {
 

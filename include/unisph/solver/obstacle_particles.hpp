@@ -24,9 +24,9 @@
 
 #include "unisph/core/vector.hpp"
 #include "unisph/io/vtk_xml_reader.hpp"
-#include "unisph/sph/case_description.hpp"
-#include "unisph/sph/case_file.hpp"
-#include "unisph/sph/tank_particles.hpp"
+#include "unisph/solver/case_description.hpp"
+#include "unisph/solver/case_file.hpp"
+#include "unisph/solver/tank_particles.hpp"
 
 namespace unisph::sph {
 

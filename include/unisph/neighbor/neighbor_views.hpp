@@ -12,7 +12,7 @@
 // neighbour-iteration implementation (docs/views.md).
 
 #include "unisph/core/config.hpp"
-#include "unisph/iter/stencil_traits.hpp"
+#include "unisph/neighbor/stencil_traits.hpp"
 #include "unisph/neighbor/neighbor_search.hpp"
 
 namespace unisph::iter {

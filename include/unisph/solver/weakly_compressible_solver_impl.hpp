@@ -1,6 +1,6 @@
 #pragma once
 // Definitions of WeaklyCompressibleSolver, included only by the library's instantiation
-// files (src/sph/), which nvcc compiles where CUDA is on.
+// files (src/solver/), which nvcc compiles where CUDA is on.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -18,15 +18,15 @@
 #include "unisph/sph/neighbor_records.hpp"
 #include "unisph/sph/fused_updates.hpp"
 #include "unisph/sph/observers.hpp"
-#include "unisph/sph/obstacle_particles.hpp"
+#include "unisph/solver/obstacle_particles.hpp"
 #include "unisph/sph/pressure_relaxation.hpp"
-#include "unisph/sph/solver_checkpoint.hpp"
+#include "unisph/solver/solver_checkpoint.hpp"
 #include "unisph/sph/prior_acceleration.hpp"
-#include "unisph/sph/tank_particles.hpp"
+#include "unisph/solver/tank_particles.hpp"
 #include "unisph/sph/time_step.hpp"
 #include "unisph/sph/velocity_damping.hpp"
 #include "unisph/sph/wall_free_box.hpp"
-#include "unisph/sph/weakly_compressible_solver.hpp"
+#include "unisph/solver/weakly_compressible_solver.hpp"
 
 namespace unisph::sph {
 

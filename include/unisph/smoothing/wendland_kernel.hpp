@@ -7,7 +7,7 @@
 
 #include "unisph/core/config.hpp"
 
-namespace unisph::sph {
+namespace unisph {
 
 template <class T, int D>
 struct WendlandC2Kernel {
@@ -73,4 +73,4 @@ struct PairKernelDerivative {
   UNISPH_HOST_DEVICE T operator()(const Pair& pair) const { return kernel.derivative(pair.distance()); }
 };
 
-}  // namespace unisph::sph
+}  // namespace unisph

@@ -1,6 +1,6 @@
 // Writing and reading the case and the summary of a solver checkpoint (the particle data are
 // written by the solver itself, weakly_compressible_solver_impl.hpp).
-#include "unisph/sph/solver_checkpoint.hpp"
+#include "unisph/solver/solver_checkpoint.hpp"
 
 #include <sstream>
 

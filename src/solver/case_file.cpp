@@ -1,7 +1,7 @@
 // Case-file reader: TOML through toml++ (header-only, Debian's libtomlplusplus-dev). Every
 // key is checked against the schema below, so a misspelt key is an error rather than a
 // silently ignored setting.
-#include "unisph/sph/case_file.hpp"
+#include "unisph/solver/case_file.hpp"
 
 #include <cctype>
 #include <cstdint>

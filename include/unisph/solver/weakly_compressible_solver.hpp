@@ -9,7 +9,7 @@
 //     particle sort (cell order, every `sort_every` advection steps), cell lists and relations rebuilt.
 //
 // The floating type T (float or double) and the dimension D are template parameters; the
-// four combinations are compiled once in the library (src/sph/). The policy is chosen at
+// four combinations are compiled once in the library (src/solver/). The policy is chosen at
 // run time. Every member that launches kernels dispatches on it.
 #include <cstdint>
 #include <filesystem>
@@ -20,7 +20,7 @@
 #include "unisph/core/error.hpp"
 #include "unisph/exec/policy.hpp"
 #include "unisph/particles/body.hpp"
-#include "unisph/sph/case_description.hpp"
+#include "unisph/solver/case_description.hpp"
 
 namespace unisph::sph {
 
@@ -89,7 +89,7 @@ class WeaklyCompressibleSolver {
   Body<T, D>& fluid_body();
   Body<T, D>& wall_body();
 
-  // Checkpoints (format: unisph/sph/solver_checkpoint.hpp). Taken between advection steps:
+  // Checkpoints (format: unisph/solver/solver_checkpoint.hpp). Taken between advection steps:
   // every sortable variable of fluid and wall (ids included), the time, the step counters, the
   // case, precision and dimension. `run_state` is the caller's own state (output counters...),
   // stored as an opaque block. Written to a temporary file, then renamed.

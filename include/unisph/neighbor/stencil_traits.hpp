@@ -32,7 +32,7 @@
 
 #include "unisph/core/config.hpp"
 #include "unisph/core/vector.hpp"
-#include "unisph/iter/cell_list_traits.hpp"
+#include "unisph/neighbor/cell_list_traits.hpp"
 #include "unisph/iter/container_traits.hpp"
 #include "unisph/iter/runtime.hpp"
 #include "unisph/iter/slot_ref.hpp"

@@ -6,7 +6,7 @@
 #include <string_view>
 
 #include "unisph/core/error.hpp"
-#include "unisph/sph/case_description.hpp"
+#include "unisph/solver/case_description.hpp"
 
 namespace unisph::sph {
 

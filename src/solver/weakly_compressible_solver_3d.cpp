@@ -1,5 +1,5 @@
 // The 3D solver in float and double, compiled once (by nvcc where CUDA is on).
-#include "unisph/sph/weakly_compressible_solver_impl.hpp"
+#include "unisph/solver/weakly_compressible_solver_impl.hpp"
 
 namespace unisph::sph {
 template class WeaklyCompressibleSolver<float, 3>;
