@@ -537,6 +537,35 @@ TYPED_TEST(ShapeTest, FluidNearAWallIsRemoved) {
   std::printf("removed %zu of %zu fluid points next to the obstacle\n", std::size_t(removed), before.size());
 }
 
+// The example of docs/shapes.md: the 3D dam break of cases/dambreak_obstacle_3d.toml from shapes.
+TYPED_TEST(ShapeTest, DocumentedExample) {
+  const auto policy = this->policy;
+  const Real dx = Real(0.05);
+  const V3 inside{{5.366, 2.0, 0.5}};
+  const V3 layers = V3::constant(4 * dx);
+  MeshLevelSetCache<3> cache;
+
+  const Shape<3> tank = difference(box<3>(-layers, inside + layers), box<3>(V3{}, inside));
+  const Shape<3> water = box<3>(V3{}, V3{{2.0, 1.0, 0.5}});
+  const Shape<3> pillar = translate(triangle_mesh(policy, cache, test_data("../../cases/obstacle_3d.stl"), dx / 2),
+                                    V3{{3.5, 0.0, 0.15}});
+
+  CompiledShape<3> tank_solid(tank), water_region(water), pillar_solid(pillar);
+  std::vector<V3> fluid = fill_with_particles(policy, water_region, dx);
+  const Index removed = remove_near_wall(policy, fluid, pillar_solid, dx);
+  const LatticeParticles<3> tank_wall = make_wall_particles(policy, tank_solid, dx);
+  const LatticeParticles<3> pillar_wall = make_wall_particles(policy, pillar_solid, dx);
+
+  std::printf("fluid %zu (removed %zu), tank wall %zu, pillar wall %zu\n", fluid.size(), std::size_t(removed),
+              tank_wall.position.size(), pillar_wall.position.size());
+  EXPECT_EQ(fluid.size(), 40u * 20u * 10u);
+  EXPECT_EQ(removed, 0u);  // the water column does not reach the pillar
+  // The pillar (0.3 x 0.8 x 0.2 at dx 0.05) is 6 x 16 x 4 cells: every cell centre is less than
+  // 4 dx deep, so all of them are wall particles.
+  EXPECT_EQ(pillar_wall.position.size(), 6u * 16u * 4u);
+  for (const V3& n : pillar_wall.normal) ASSERT_NEAR(norm(n), 1, 1e-6);
+}
+
 // ---- bad input: one line each, a unisph::Error ----
 
 template <class F>
