@@ -189,27 +189,28 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
     arrays.push_back(io::PointArray::from("Pressure", 1, fluid.template variable<T>("Pressure").to_vector()));
     const std::string fluid_file = solver.fluid_body().name() + suffix;
     io::write_vtp(dir / fluid_file, as_points<T, D>(solver.fluid_body().positions().to_vector()), arrays);
-    auto& wall = solver.wall_body().particles();
-    std::vector<io::PointArray> wall_arrays;
-    wall_arrays.push_back(vector_array<T, D>("Normal", wall.template variable<Vec<T, D>>("Normal").to_vector()));
-    if (!description.obstacles.empty()) {
-      // Which body a wall particle belongs to: 0 the tank, k the k-th [[obstacle]] (ids are
-      // the tank's first, then each obstacle's in turn; the wall was reordered once).
-      const std::vector<Index>& counts = solver.obstacle_wall_counts();
-      const Index tank = solver.wall_count() - [&] { Index n = 0; for (Index c : counts) n += c; return n; }();
-      std::vector<std::int64_t> body;
-      for (std::uint64_t id : wall.ids().to_vector()) {
-        std::uint64_t at = id - wall.first_id(), end = tank;
-        std::int64_t k = 0;
-        while (at >= end && std::size_t(k) < counts.size()) end += counts[std::size_t(k++)];
-        body.push_back(k);
-      }
-      wall_arrays.push_back(io::PointArray::from("Body", 1, body));
-    }
-    const std::string wall_file = solver.wall_body().name() + suffix;
-    io::write_vtp(dir / wall_file, as_points<T, D>(solver.wall_body().positions().to_vector()), wall_arrays);
     run.collection.push_back({solver.time(), 0, fluid_file});
-    run.collection.push_back({solver.time(), 1, wall_file});
+    // Each wall body to a series of its own (its name, then the snapshot's number): a wall
+    // particle's body follows from its id (the first body's ids come first, then the second's...).
+    auto& wall = solver.wall_body().particles();
+    const std::vector<sph::WallBodyCount>& bodies = solver.wall_bodies();
+    const std::vector<std::uint64_t> ids = wall.ids().to_vector();
+    const std::vector<Vec<T, D>> positions = solver.wall_body().positions().to_vector();
+    const std::vector<Vec<T, D>> normals = wall.template variable<Vec<T, D>>("Normal").to_vector();
+    std::vector<std::uint64_t> first(bodies.size() + 1, wall.first_id());
+    for (std::size_t k = 0; k < bodies.size(); ++k) first[k + 1] = first[k] + bodies[k].count;
+    for (std::size_t k = 0; k < bodies.size(); ++k) {
+      std::vector<Vec<T, D>> x, n;
+      std::vector<std::uint64_t> id;
+      for (std::size_t i = 0; i < ids.size(); ++i)
+        if (ids[i] >= first[k] && ids[i] < first[k + 1]) x.push_back(positions[i]), n.push_back(normals[i]), id.push_back(ids[i]);
+      std::vector<io::PointArray> wall_arrays;
+      wall_arrays.push_back(io::PointArray::from("ParticleId", 1, id));
+      wall_arrays.push_back(vector_array<T, D>("Normal", n));
+      const std::string wall_file = bodies[k].name + suffix;
+      io::write_vtp(dir / wall_file, as_points<T, D>(x), wall_arrays);
+      run.collection.push_back({solver.time(), int(k + 1), wall_file});
+    }
     io::write_pvd(dir / (description.name + ".pvd"), run.collection);
   };
   // Taken after the advection step that reaches the checkpoint time (not by shortening a
@@ -258,11 +259,15 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
       << "policy: " << to_string(kind) << (kind == PolicyKind::device ? " (" + execution_info().device_name + ")" : "")
       << "\ndx: " << description.dx << "\nsmoothing length h: " << solver.smoothing_length()
       << "\nfluid particles: " << solver.fluid_count() << "\nwall particles: " << solver.wall_count();
+  for (const sph::WallBodyCount& b : solver.wall_bodies()) log << "\nwall body " << b.name << ": " << b.count << " particles";
   for (std::size_t k = 0; k < description.obstacles.size(); ++k)
     log << "\nobstacle " << k + 1 << ": " << solver.obstacle_wall_counts()[k] << " wall particles from "
         << description.obstacles[k].file;
-  if (!description.obstacles.empty())
-    log << "\nfluid particles removed by the obstacles: " << solver.removed_fluid_count();
+  if (!description.obstacles.empty() || description.general())
+    log << "\nfluid lattice points removed next to walls: " << solver.removed_fluid_count();
+  if (description.domain.leaving == "remove")
+    log << "\nfluid particles that left the domain (removed): " << solver.left_domain_count() << ", mass "
+        << solver.left_domain_mass();
   if (const sph::SettlingReport& settled = solver.settling(); settled.advection_steps > 0)
     log << "\nsettling before t = 0: " << settled.time << " time units, " << settled.advection_steps
         << " advection and " << settled.acoustic_steps << " acoustic steps, " << settled.seconds << " s";
@@ -347,8 +352,8 @@ void add_run_command(CLI::App& app) {
     if (options.checkpoint_every >= 0) description.checkpoint_every = options.checkpoint_every;
     if (options.dx > 0) {
       description.dx = options.dx;
-      for (int a = 0; a < description.dimension; ++a)
-        if (description.column[a] < description.dx)
+      for (int a = 0; a < int(description.column.size()); ++a)  // the short form (the general form's bodies check themselves)
+        if (description.column[std::size_t(a)] < description.dx)
           throw sph::CaseFileError("--dx " + std::to_string(options.dx) + ": larger than the column of " +
                                    options.case_file);
     }

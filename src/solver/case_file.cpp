@@ -82,6 +82,18 @@ struct Reader {
     }
   }
 
+  void only_keys(const toml::table& table, const std::string& prefix, const std::vector<std::string_view>& known) const {
+    for (const auto& [key, node] : table) {
+      bool ok = false;
+      for (auto k : known) ok = ok || key.str() == k;
+      if (!ok) {
+        std::string list;
+        for (auto k : known) list += (list.empty() ? "" : ", ") + std::string(k);
+        fail(&node, prefix + std::string(key.str()), "unknown key (known here: " + list + ")");
+      }
+    }
+  }
+
   double number(const toml::table& table, const std::string& prefix, const std::string& key, const double* fallback) const {
     const toml::node* node = table.get(key);
     if (!node) {
@@ -298,6 +310,179 @@ std::string ascii_for_toml(std::string_view text, const std::string& source) {
   return out;
 }
 
+
+bool valid_name(const std::string& name) {
+  if (name.empty()) return false;
+  for (char ch : name)
+    if (!(std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '.' || ch == '-')) return false;
+  return true;
+}
+
+const toml::array& tables(const Reader& r, const toml::node* node, const std::string& key) {
+  const toml::array* list = node->as_array();
+  if (!list || !list->is_array_of_tables()) r.fail(node, key, "must be an array of tables [[" + key + "]]");
+  return *list;
+}
+
+// [[shape]] tables, each checked for the keys of its type; operands must be shapes named before.
+void read_shapes(const Reader& r, const toml::table& root, CaseDescription& c) {
+  const toml::node* node = root.get("shape");
+  if (!node) return;
+  const int d = c.dimension;
+  for (const toml::node& entry : tables(r, node, "shape")) {
+    const toml::table& t = *entry.as_table();
+    ShapeDescription shape;
+    shape.line = int(t.source().begin.line);
+    shape.name = r.text(t, "shape.", "name", nullptr);
+    if (!valid_name(shape.name)) r.fail(t.get("name"), "shape.name", "use letters, digits, '_', '.' or '-'");
+    for (const ShapeDescription& other : c.shapes)
+      if (other.name == shape.name)
+        r.fail(t.get("name"), "shape.name", "'" + shape.name + "' is already the name of the shape on line " + std::to_string(other.line));
+    if (!t.get("type")) r.fail_at(t, "shape.type", "missing value");
+    shape.type = r.choice(t, "shape.", "type",
+                          {"box", "sphere", "cylinder", "half_space", "polygon", "mesh", "union", "intersection", "difference", "shell"});
+    std::vector<std::string_view> keys = {"name", "type", "scale", "rotation", "axis", "pivot", "translation"};
+    const auto vector_value = [&](const char* key, bool positive_entries) {
+      shape.values.emplace_back(key, r.vector(t, "shape.", key, d, positive_entries));
+      keys.push_back(key);
+    };
+    const auto positive_value = [&](const char* key) {
+      shape.values.emplace_back(key, std::vector<double>{r.positive(t, "shape.", key)});
+      keys.push_back(key);
+    };
+    const std::string& type = shape.type;
+    if ((type == "cylinder" || type == "mesh") && d != 3)
+      r.fail(t.get("type"), "shape.type", "\"" + type + "\" is a 3D shape; this case is 2D");
+    if (type == "polygon" && d != 2) r.fail(t.get("type"), "shape.type", "\"polygon\" is a 2D shape; this case is 3D (use \"mesh\")");
+    if (type == "box") {
+      vector_value("lower", false);
+      vector_value("upper", false);
+      const std::vector<double>& lo = *shape.value("lower");
+      const std::vector<double>& hi = *shape.value("upper");
+      for (int a = 0; a < d; ++a)
+        if (!(lo[std::size_t(a)] < hi[std::size_t(a)]))
+          r.fail(t.get("upper"), "shape.upper", "must be above shape.lower along every axis (not along axis " + std::to_string(a) + ")");
+    } else if (type == "sphere") {
+      vector_value("center", false);
+      positive_value("radius");
+    } else if (type == "cylinder") {
+      vector_value("start", false);
+      vector_value("end", false);
+      positive_value("radius");
+      if (*shape.value("start") == *shape.value("end")) r.fail(t.get("end"), "shape.end", "the axis has zero length (start = end)");
+    } else if (type == "half_space") {
+      vector_value("point", false);
+      vector_value("normal", false);
+      double squared = 0;
+      for (double v : *shape.value("normal")) squared += v * v;
+      if (!(squared > 0)) r.fail(t.get("normal"), "shape.normal", "must not be the zero vector");
+    } else if (type == "polygon" || type == "mesh") {
+      keys.push_back("file");
+      const std::string file = r.text(t, "shape.", "file", nullptr);
+      if (file.empty()) r.fail(t.get("file"), "shape.file", "must name a geometry file");
+      shape.file = (std::filesystem::path(r.source).parent_path() / file).lexically_normal().string();
+    } else {
+      // Booleans combine a list of shapes; shell thickens one.
+      const bool shell = type == "shell";
+      const char* key = shell ? "shape" : "shapes";
+      keys.push_back(key);
+      if (shell) {
+        shape.operands.push_back(r.text(t, "shape.", "shape", nullptr));
+        positive_value("thickness");
+      } else {
+        const toml::node* list = t.get("shapes");
+        if (!list) r.fail_at(t, "shape.shapes", "missing value");
+        const toml::array* names = list->as_array();
+        if (!names) r.fail(list, "shape.shapes", "must be an array of shape names");
+        for (const toml::node& n : *names) {
+          if (!n.as_string()) r.fail(list, "shape.shapes", "must be an array of shape names (strings)");
+          shape.operands.push_back(n.as_string()->get());
+        }
+        const std::size_t least = type == "difference" ? 2 : 1;
+        if (shape.operands.size() < least)
+          r.fail(list, "shape.shapes",
+                 "a " + type + " of " + std::to_string(shape.operands.size()) + " shapes: it needs at least " + std::to_string(least) +
+                     (type == "difference" ? " (the first minus the others)" : ""));
+      }
+      for (const std::string& operand : shape.operands) {
+        bool found = false;
+        for (const ShapeDescription& other : c.shapes) found = found || other.name == operand;
+        if (!found)
+          r.fail(t.get(key), std::string("shape.") + key,
+                 "'" + operand + "' is not the name of a shape defined above this one");
+      }
+    }
+    // The rigid transform: scale, then rotation about `pivot`, then translation.
+    if (t.get("scale")) shape.values.emplace_back("scale", std::vector<double>{r.positive(t, "shape.", "scale")});
+    if (t.get("rotation")) {
+      shape.values.emplace_back("rotation", std::vector<double>{r.number(t, "shape.", "rotation", nullptr)});
+      if (d == 3) {
+        shape.values.emplace_back("axis", r.vector(t, "shape.", "axis", 3, false));
+        double squared = 0;
+        for (double v : *shape.value("axis")) squared += v * v;
+        if (!(squared > 0)) r.fail(t.get("axis"), "shape.axis", "the rotation axis has zero length");
+      } else if (t.get("axis")) {
+        r.fail(t.get("axis"), "shape.axis", "a 2D rotation is about a point (shape.pivot); it takes no axis");
+      }
+      if (t.get("pivot")) shape.values.emplace_back("pivot", r.vector(t, "shape.", "pivot", d, false));
+    } else {
+      for (const char* key : {"axis", "pivot"})
+        if (t.get(key)) r.fail(t.get(key), std::string("shape.") + key, "is read only with shape.rotation");
+    }
+    if (t.get("translation")) shape.values.emplace_back("translation", r.vector(t, "shape.", "translation", d, false));
+    r.only_keys(t, "shape.", keys);
+    c.shapes.push_back(std::move(shape));
+  }
+}
+
+// [[body]] tables: fluid or wall bodies made of named shapes.
+void read_bodies(const Reader& r, const toml::table& root, CaseDescription& c) {
+  const int d = c.dimension;
+  for (const toml::node& entry : tables(r, root.get("body"), "body")) {
+    const toml::table& t = *entry.as_table();
+    BodyDescription body;
+    body.line = int(t.source().begin.line);
+    body.name = r.text(t, "body.", "name", nullptr);
+    if (!valid_name(body.name)) r.fail(t.get("name"), "body.name", "use letters, digits, '_', '.' or '-' (it names output files)");
+    for (const BodyDescription& other : c.bodies)
+      if (other.name == body.name)
+        r.fail(t.get("name"), "body.name", "'" + body.name + "' is already the name of the body on line " + std::to_string(other.line));
+    if (!t.get("kind")) r.fail_at(t, "body.kind", "missing value (\"fluid\" or \"wall\")");
+    body.kind = r.choice(t, "body.", "kind", {"fluid", "wall"});
+    body.shape = r.text(t, "body.", "shape", nullptr);
+    bool found = false;
+    for (const ShapeDescription& s : c.shapes) found = found || s.name == body.shape;
+    if (!found) r.fail(t.get("shape"), "body.shape", "'" + body.shape + "' is not the name of a [[shape]]");
+    if (body.kind == "fluid") {
+      r.only_keys(t, "body.", {"name", "kind", "shape", "velocity"});
+      body.velocity = t.get("velocity") ? r.vector(t, "body.", "velocity", d, false) : std::vector<double>(std::size_t(d), 0.0);
+    } else {
+      r.only_keys(t, "body.", {"name", "kind", "shape", "layers"});
+      const long long four = 4;
+      const long long layers = r.integer(t, "body.", "layers", &four);
+      if (layers < 1 || layers > 16) r.fail(t.get("layers"), "body.layers", "must be 1 to 16 (it is " + std::to_string(layers) + ")");
+      body.layers = int(layers);
+    }
+    c.bodies.push_back(std::move(body));
+  }
+  bool fluid = false;
+  for (const BodyDescription& b : c.bodies) fluid = fluid || b.kind == "fluid";
+  if (!fluid) r.fail(root.get("body"), "body.kind", "the case has no fluid body (kind = \"fluid\")");
+}
+
+// The general form: [domain], [[shape]], [[body]].
+void read_general_form(const Reader& r, const toml::table& root, CaseDescription& c) {
+  const toml::table& domain = r.table(root, "domain", true);
+  r.only_keys(domain, "domain.", {"lower", "upper", "leaving"});
+  c.domain.lower = r.vector(domain, "domain.", "lower", c.dimension, false);
+  c.domain.upper = r.vector(domain, "domain.", "upper", c.dimension, false);
+  for (int a = 0; a < c.dimension; ++a)
+    if (!(c.domain.lower[std::size_t(a)] < c.domain.upper[std::size_t(a)]))
+      r.fail(domain.get("upper"), "domain.upper", "must be above domain.lower along every axis (not along axis " + std::to_string(a) + ")");
+  c.domain.leaving = r.choice(domain, "domain.", "leaving", {"remove", "stop"});
+  read_shapes(r, root, c);
+  read_bodies(r, root, c);
+}
 }  // namespace
 
 CaseDescription parse_case(std::string_view text, const std::string& source) {
@@ -314,7 +499,8 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
     throw CaseFileError(source + ":" + std::to_string(e.source().begin.line) + ": not valid TOML: " + what);
   }
   Reader r{source};
-  r.only_keys(root, "", {"case", "geometry", "fluid", "physics", "initial", "time", "report", "probe", "obstacle"});
+  r.only_keys(root, "", {"case", "geometry", "domain", "shape", "body", "fluid", "physics", "initial", "time", "report",
+                         "probe", "obstacle"});
   CaseDescription c;
   c.source = source;
 
@@ -327,21 +513,36 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
     r.fail(case_table.get("dimension"), "case.dimension", "must be 2 or 3 (it is " + std::to_string(dimension) + ")");
   c.dimension = int(dimension);
 
+  // The general form ([[body]]) or the short form (geometry.tank and geometry.column), not both.
+  const bool general = root.get("body") != nullptr;
   const toml::table& geometry = r.table(root, "geometry", true);
   r.only_keys(geometry, "geometry.", {"dx", "tank", "column"});
   c.dx = r.positive(geometry, "geometry.", "dx");
-  c.tank = r.vector(geometry, "geometry.", "tank", c.dimension, true);
-  c.column = r.vector(geometry, "geometry.", "column", c.dimension, true);
-  for (int a = 0; a < c.dimension; ++a)
-    if (c.column[a] > c.tank[a])
-      r.fail(geometry.get("column"), "geometry.column",
-             "the column (" + Reader::format(c.column[a]) + " along axis " + std::to_string(a) +
-                 ") is larger than the tank (" + Reader::format(c.tank[a]) + ")");
-  for (int a = 0; a < c.dimension; ++a)
-    if (c.column[a] < c.dx)
-      r.fail(geometry.get("column"), "geometry.column",
-             "the column (" + Reader::format(c.column[a]) + " along axis " + std::to_string(a) +
-                 ") is thinner than one particle spacing dx = " + Reader::format(c.dx));
+  if (general) {
+    for (const char* key : {"tank", "column"})
+      if (geometry.get(key))
+        r.fail(geometry.get(key), std::string("geometry.") + key,
+               "the short form (geometry.tank, geometry.column) and [[body]] tables cannot be mixed: describe the tank "
+               "and the water as shapes and bodies");
+    read_general_form(r, root, c);
+  } else {
+    for (const char* table : {"domain", "shape"})
+      if (root.get(table))
+        r.fail(root.get(table), table,
+               std::string("[") + table + "] belongs to the general form, which needs [[body]] tables (none here)");
+    c.tank = r.vector(geometry, "geometry.", "tank", c.dimension, true);
+    c.column = r.vector(geometry, "geometry.", "column", c.dimension, true);
+    for (int a = 0; a < c.dimension; ++a)
+      if (c.column[a] > c.tank[a])
+        r.fail(geometry.get("column"), "geometry.column",
+               "the column (" + Reader::format(c.column[a]) + " along axis " + std::to_string(a) +
+                   ") is larger than the tank (" + Reader::format(c.tank[a]) + ")");
+    for (int a = 0; a < c.dimension; ++a)
+      if (c.column[a] < c.dx)
+        r.fail(geometry.get("column"), "geometry.column",
+               "the column (" + Reader::format(c.column[a]) + " along axis " + std::to_string(a) +
+                   ") is thinner than one particle spacing dx = " + Reader::format(c.dx));
+  }
 
   const toml::table& fluid = r.table(root, "fluid", true);
   r.only_keys(fluid, "fluid.", {"density", "sound_speed", "reference_velocity", "viscosity", "continuity_dissipation",
@@ -357,23 +558,48 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
   }
   c.free_surface_density = r.choice(fluid, "fluid.", "free_surface_density", {"reference", "carried"});
 
+  // physics.gravity: |g| along -y (a number), or the vector g (D numbers, not all zero).
   const toml::table& physics = r.table(root, "physics", true);
   r.only_keys(physics, "physics.", {"gravity"});
-  c.gravity = r.positive(physics, "physics.", "gravity");
+  if (physics.get("gravity") && physics.get("gravity")->is_array()) {
+    c.gravity_vector = r.vector(physics, "physics.", "gravity", c.dimension, false);
+    double squared = 0;
+    for (double g : c.gravity_vector) squared += g * g;
+    c.gravity = std::sqrt(squared);
+    if (!(c.gravity > 0)) r.fail(physics.get("gravity"), "physics.gravity", "must not be the zero vector");
+  } else {
+    c.gravity = r.positive(physics, "physics.", "gravity");
+    c.gravity_vector.assign(std::size_t(c.dimension), 0.0);
+    c.gravity_vector[1] = -c.gravity;
+  }
 
   const toml::table& initial = r.table(root, "initial", false);
-  r.only_keys(initial, "initial.", {"state", "settling_time", "settling_damping"});
+  r.only_keys(initial, "initial.", {"state", "free_surface", "settling_time", "settling_damping"});
   c.hydrostatic = r.choice(initial, "initial.", "state", {"rest", "hydrostatic"}) == "hydrostatic";
+  if (general) {
+    // The level of the free surface along -g, for the hydrostatic start.
+    if (c.hydrostatic) c.free_surface = r.number(initial, "initial.", "free_surface", nullptr);
+    else if (initial.get("free_surface"))
+      r.fail(initial.get("free_surface"), "initial.free_surface", "is read only with initial.state = \"hydrostatic\"");
+  } else {
+    if (initial.get("free_surface"))
+      r.fail(initial.get("free_surface"), "initial.free_surface",
+             "belongs to the general form ([[body]]); the short form's free surface is the column's top");
+    c.free_surface = c.column[1];
+  }
   c.settling_time = r.non_negative(initial, "initial.", "settling_time", 0.0);
-  // By default the damping's time scale is twice the column's height over the reference speed
-  // (hydrostatic_2d: 1 per unit of time; twice that settled worse, docs/sph.md "Settling").
-  const double default_damping = c.reference_velocity / (2 * c.column[1]);
   if (initial.get("settling_damping")) {
     c.settling_damping = r.positive(initial, "initial.", "settling_damping");
     if (!(c.settling_time > 0))
       r.fail(initial.get("settling_damping"), "initial.settling_damping", "needs initial.settling_time > 0");
   } else if (c.settling_time > 0) {
-    c.settling_damping = default_damping;
+    // By default the damping's time scale is twice the column's height over the reference speed
+    // (hydrostatic_2d: 1 per unit of time; twice that settled worse, docs/sph.md "Settling").
+    if (general)
+      r.fail(&initial, "initial.settling_damping",
+             "missing value: the general form has no column to derive it from (the short form takes U over twice the "
+             "column's height)");
+    c.settling_damping = c.reference_velocity / (2 * c.column[1]);
   }
 
   const toml::table& time = r.table(root, "time", true);

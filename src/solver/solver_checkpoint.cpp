@@ -45,6 +45,34 @@ void write_case(io::CheckpointWriter& out, const CaseDescription& c) {
     out.f64s(o.translation);
     out.u32(std::uint32_t(o.line));
   }
+  out.f64s(c.gravity_vector);
+  out.f64(c.free_surface);
+  out.f64s(c.domain.lower);
+  out.f64s(c.domain.upper);
+  out.string(c.domain.leaving);
+  out.u64(c.shapes.size());
+  for (const ShapeDescription& s : c.shapes) {
+    out.string(s.name);
+    out.string(s.type);
+    out.u64(s.values.size());
+    for (const auto& [key, value] : s.values) {
+      out.string(key);
+      out.f64s(value);
+    }
+    out.u64(s.operands.size());
+    for (const std::string& o : s.operands) out.string(o);
+    out.string(s.file);
+    out.u32(std::uint32_t(s.line));
+  }
+  out.u64(c.bodies.size());
+  for (const BodyDescription& b : c.bodies) {
+    out.string(b.name);
+    out.string(b.kind);
+    out.string(b.shape);
+    out.f64s(b.velocity);
+    out.u32(std::uint32_t(b.layers));
+    out.u32(std::uint32_t(b.line));
+  }
 }
 
 CaseDescription read_case(io::CheckpointReader& in) {
@@ -94,8 +122,45 @@ CaseDescription read_case(io::CheckpointReader& in) {
     if (int(o.translation.size()) != c.dimension) in.fail("holds an obstacle whose translation is not one value per axis");
     c.obstacles.push_back(o);
   }
+  c.gravity_vector = in.f64s();
+  c.free_surface = in.f64();
+  c.domain.lower = in.f64s();
+  c.domain.upper = in.f64s();
+  c.domain.leaving = in.string();
+  const std::uint64_t shapes = in.u64();
+  if (shapes > 100000) in.fail("holds " + std::to_string(shapes) + " shapes (damaged case section)");
+  for (std::uint64_t k = 0; k < shapes; ++k) {
+    ShapeDescription s;
+    s.name = in.string();
+    s.type = in.string();
+    const std::uint64_t values = in.u64();
+    if (values > 64) in.fail("holds a shape with " + std::to_string(values) + " values (damaged case section)");
+    for (std::uint64_t v = 0; v < values; ++v) {
+      std::string key = in.string();
+      s.values.emplace_back(std::move(key), in.f64s());
+    }
+    const std::uint64_t operands = in.u64();
+    if (operands > 100000) in.fail("holds a shape with " + std::to_string(operands) + " operands (damaged case section)");
+    for (std::uint64_t o = 0; o < operands; ++o) s.operands.push_back(in.string());
+    s.file = in.string();
+    s.line = int(in.u32());
+    c.shapes.push_back(std::move(s));
+  }
+  const std::uint64_t bodies = in.u64();
+  if (bodies > 100000) in.fail("holds " + std::to_string(bodies) + " bodies (damaged case section)");
+  for (std::uint64_t k = 0; k < bodies; ++k) {
+    BodyDescription b;
+    b.name = in.string();
+    b.kind = in.string();
+    b.shape = in.string();
+    b.velocity = in.f64s();
+    b.layers = int(in.u32());
+    b.line = int(in.u32());
+    c.bodies.push_back(std::move(b));
+  }
   if (c.dimension != 2 && c.dimension != 3) in.fail("holds a case of dimension " + std::to_string(c.dimension));
-  if (int(c.tank.size()) != c.dimension || int(c.column.size()) != c.dimension || !(c.dx > 0) || c.sort_every < 1)
+  const bool shape_ok = c.general() || (int(c.tank.size()) == c.dimension && int(c.column.size()) == c.dimension);
+  if (!shape_ok || !(c.dx > 0) || c.sort_every < 1)
     in.fail("holds a case section that is not a valid case (tank, column, dx or sort interval)");
   return c;
 }
@@ -145,6 +210,34 @@ std::string physics_difference(const CaseDescription& a, const CaseDescription& 
   for (std::size_t k = 0; k < a.obstacles.size() && k < b.obstacles.size(); ++k) {
     field("obstacle.file", a.obstacles[k].file, b.obstacles[k].file);
     field("obstacle.translation", a.obstacles[k].translation, b.obstacles[k].translation);
+  }
+  field("physics.gravity (vector)", a.gravity_vector, b.gravity_vector);
+  field("initial.free_surface", a.free_surface, b.free_surface);
+  field("domain.lower", a.domain.lower, b.domain.lower);
+  field("domain.upper", a.domain.upper, b.domain.upper);
+  field("domain.leaving", a.domain.leaving, b.domain.leaving);
+  field("number of shapes", int(a.shapes.size()), int(b.shapes.size()));
+  for (std::size_t k = 0; k < a.shapes.size() && k < b.shapes.size(); ++k) {
+    const ShapeDescription &x = a.shapes[k], &y = b.shapes[k];
+    field("shape.name", x.name, y.name);
+    field("shape.type", x.type, y.type);
+    field("shape.file", x.file, y.file);
+    field("number of values of a shape", int(x.values.size()), int(y.values.size()));
+    for (std::size_t v = 0; v < x.values.size() && v < y.values.size(); ++v) {
+      field("a shape's key", x.values[v].first, y.values[v].first);
+      field(("shape." + x.values[v].first).c_str(), x.values[v].second, y.values[v].second);
+    }
+    field("number of operands of a shape", int(x.operands.size()), int(y.operands.size()));
+    for (std::size_t o = 0; o < x.operands.size() && o < y.operands.size(); ++o) field("shape.shapes", x.operands[o], y.operands[o]);
+  }
+  field("number of bodies", int(a.bodies.size()), int(b.bodies.size()));
+  for (std::size_t k = 0; k < a.bodies.size() && k < b.bodies.size(); ++k) {
+    const BodyDescription &x = a.bodies[k], &y = b.bodies[k];
+    field("body.name", x.name, y.name);
+    field("body.kind", x.kind, y.kind);
+    field("body.shape", x.shape, y.shape);
+    field("body.velocity", x.velocity, y.velocity);
+    field("body.layers", x.layers, y.layers);
   }
   return found;
 }

@@ -36,11 +36,17 @@ def main():
     dx = float(log["dx"])
     deepest = -math.inf
     first_obstacle = None
-    counts = {0: int(log["fluid particles"]), 1: int(log["wall particles"])}
+    # The fluid is part 0; each wall body ("wall body NAME: N particles" in the log, in order) a part of its own.
+    bodies = [(line.split(": ")[0][len("wall body "):], int(line.split(": ")[1].split()[0]))
+              for line in open(os.path.join(work, "run.log")).read().splitlines() if line.startswith("wall body ")]
+    assert sum(n for _, n in bodies) == int(log["wall particles"]), (bodies, log["wall particles"])
+    counts = {0: int(log["fluid particles"])}
+    for k, (_, n) in enumerate(bodies):
+        counts[k + 1] = n
     pvd = [f for f in os.listdir(work) if f.endswith(".pvd")]
     assert len(pvd) == 1, pvd
     entries = ET.parse(os.path.join(work, pvd[0])).getroot().find("Collection").findall("DataSet")
-    assert len(entries) == 2 * int(log["snapshots"]), (len(entries), log["snapshots"])
+    assert len(entries) == (1 + len(bodies)) * int(log["snapshots"]), (len(entries), log["snapshots"])
     for e in entries:
         reader = vtk.vtkXMLPolyDataReader()
         reader.SetFileName(os.path.join(work, e.get("file")))
@@ -65,14 +71,14 @@ def main():
             if box:
                 deepest = max(deepest, max(depth_inside(box, x, y) for x, y, _ in points))
         else:
-            assert names == (["Body", "Normal"] if box else ["Normal"]), names
+            assert names == ["Normal", "ParticleId"], names
+            assert e.get("file").startswith(bodies[part - 1][0] + "_"), (e.get("file"), bodies[part - 1])
             n = vtk_to_numpy(pd.GetArray("Normal"))
             assert all(abs(math.sqrt(a * a + b * b + c * c) - 1) < 1e-6 for a, b, c in n)
-            if box:
-                body = vtk_to_numpy(pd.GetArray("Body"))
-                obstacle = points[body == 1]
+            if box and bodies[part - 1][0] == "obstacle_1":
+                obstacle = points
                 expected = int(log["obstacle 1"].split()[0])
-                assert len(obstacle) == expected and set(body.tolist()) == {0, 1}, (len(obstacle), expected)
+                assert len(obstacle) == expected, (len(obstacle), expected)
                 assert all(depth_inside(box, x, y) > 0 for x, y, _ in obstacle), "an obstacle particle outside its block"
                 if first_obstacle is None:
                     first_obstacle = sorted(map(tuple, obstacle.tolist()))
@@ -82,7 +88,7 @@ def main():
         print("obstacle: %d wall particles, unmoved in every snapshot; the deepest fluid particle is %.3f dx inside "
               "the block (bound 0.25 dx; < 0: none inside)" % (len(first_obstacle), deepest / dx))
     print("read %d snapshots of %d fluid and %d wall particles back with VTK %s" %
-          (len(entries) // 2, counts[0], counts[1], vtk.vtkVersion.GetVTKVersion()))
+          (int(log["snapshots"]), counts[0], int(log["wall particles"]), vtk.vtkVersion.GetVTKVersion()))
 
 
 if __name__ == "__main__":

@@ -34,7 +34,15 @@ struct MapIdsToIndices {
     index_of_id[ids[i] - first_id] = static_cast<std::uint32_t>(i);
   }
 };
+struct FillIndex {
+  View<std::uint32_t> index;
+  std::uint32_t value;
+  UNISPH_HOST_DEVICE void operator()(Index i) const { index[i] = value; }
+};
 }  // namespace particle_set_detail
+
+// index_of_id() of a particle that is no longer in the set (removed by shrink_owned).
+inline constexpr std::uint32_t absent_particle_index = std::numeric_limits<std::uint32_t>::max();
 
 class ParticleSet {
  public:
@@ -90,6 +98,22 @@ class ParticleSet {
   void set_ghost_count(Index count) {
     ghosts_ = count;
     variables_.resize(total_count());
+  }
+
+  // Keeps the first `count` owned particles and drops the rest (the caller reorders the ones to
+  // drop to the end first, e.g. particles that left the domain). Ids stay with their particles;
+  // a dropped particle's id maps to absent_particle_index. For sets without ghosts.
+  template <ExecutionPolicy P>
+  void shrink_owned(P policy, Index count) {
+    if (count > owned_)
+      throw Error("particle set '" + name_ + "': cannot shrink " + std::to_string(owned_) + " owned particles to " +
+                  std::to_string(count));
+    if (ghosts_ != 0) throw Error("particle set '" + name_ + "': shrink_owned needs a set without ghosts");
+    owned_ = count;
+    variables_.resize(owned_);
+    particle_for(policy, index_of_id_.size(), particle_set_detail::FillIndex{index_of_id_.write(policy), absent_particle_index});
+    particle_for(policy, owned_,
+                 particle_set_detail::MapIdsToIndices{ids().read(policy), first_id_, index_of_id_.read_write(policy)});
   }
 
   // Moves owned particle permutation[k] to index k, for every sortable variable, and

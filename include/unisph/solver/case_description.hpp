@@ -1,9 +1,16 @@
 #pragma once
-// A free-surface case in a closed rectangular tank: what a case file (TOML) describes.
-// Values are in the user's units; nothing assumes g = 1 or rho0 = 1.
+// A free-surface case: what a case file (TOML) describes, and what a C++ program fills to run
+// its own case (examples/02_general_case.cpp). Values are in the user's units; nothing assumes
+// g = 1 or rho0 = 1.
 //
-// The tank's inside is [0, tank[0]] x [0, tank[1]] (x [0, tank[2]]), gravity acts along -y
-// (axis 1), and the water column fills [0, column[0]] x [0, column[1]] (x [0, column[2]]).
+// Two ways to describe the bodies:
+//  * the short form: a closed rectangular tank whose inside is [0, tank[0]] x [0, tank[1]]
+//    (x [0, tank[2]]) and a water column filling [0, column[0]] x [0, column[1]] (x ...) from the
+//    corner, gravity along -y; the tank's walls keep their own layout (tank_particles.hpp), so a
+//    short-form case gives the particles, and so the results, of earlier versions;
+//  * the general form: named shapes ([[shape]]) and bodies made of them ([[body]]): any number of
+//    fluid bodies (one fluid) and of wall bodies, in a domain that need not be closed by walls,
+//    with gravity along any vector.
 #include <string>
 #include <vector>
 
@@ -20,6 +27,47 @@ struct ObstacleDescription {
   std::string file;                 // as resolved: the case file's folder / the file named
   std::vector<double> translation;  // D values (zeros by default)
   int line = 0;                     // of its `file` key in the case file, for messages
+};
+
+// [[shape]]: a named shape (shape/shape.hpp). `type` is one of box, sphere (a circle in 2D),
+// cylinder (3D), half_space, polygon (2D file), mesh (3D STL file), union, intersection,
+// difference, shell; every numeric key it takes is in `values` by name (lower, upper, center,
+// radius, start, end, point, normal, thickness), the shapes it combines in `operands`, and the
+// optional rigid transform in scale, rotation (angle in degrees, axis in 3D, about `pivot`) and
+// translation, applied in that order.
+struct ShapeDescription {
+  std::string name;
+  std::string type;
+  std::vector<std::pair<std::string, std::vector<double>>> values;
+  std::vector<std::string> operands;
+  std::string file;  // polygon, mesh: as resolved (the case file's folder / the file named)
+  int line = 0;      // of its [[shape]] table in the case file, for messages
+
+  const std::vector<double>* value(const std::string& key) const {
+    for (const auto& [k, v] : values)
+      if (k == key) return &v;
+    return nullptr;
+  }
+};
+
+// [[body]]: particles made from a shape. A fluid body fills its shape on the lattice
+// x = (i + 1/2) dx; a wall body is the dummy particles of its shape's solid side, `layers`
+// lattice layers deep, with normals out of the solid.
+struct BodyDescription {
+  std::string name;
+  std::string kind;                // "fluid" or "wall"
+  std::string shape;               // the name of a [[shape]]
+  std::vector<double> velocity;    // fluid: initial velocity (D values, zeros by default)
+  int layers = 4;                  // wall: lattice layers of dummy particles
+  int line = 0;
+};
+
+// [domain]: the box particles live in. A fluid particle that leaves it is removed and counted
+// ("remove", the default of the general form) or stops the run with a diagnostic ("stop", the
+// short form's default).
+struct DomainDescription {
+  std::vector<double> lower, upper;  // D values each; empty: the tank's box with its walls
+  std::string leaving = "stop";
 };
 
 struct CaseDescription {
@@ -40,9 +88,18 @@ struct CaseDescription {
   // (max(rho_sum, rho0)) or "carried" (the shortfall from the carried density added back).
   std::string free_surface_density = "reference";
   // [physics]
-  double gravity = 0;  // |g|, acting along -y
+  double gravity = 0;                  // |g|
+  std::vector<double> gravity_vector;  // g itself (D values): (0, -gravity(, 0)) in the short form
+  // [domain]
+  DomainDescription domain;
+  // [[shape]], [[body]] (the general form; empty in the short form)
+  std::vector<ShapeDescription> shapes;
+  std::vector<BodyDescription> bodies;
   // [initial]
   bool hydrostatic = false;  // start from the hydrostatic pressure and density
+  // The free surface's level for the hydrostatic start, measured along -g (the height, for
+  // gravity along -y); the short form takes the column's height.
+  double free_surface = 0;
   // Settling before time 0 (docs/sph.md, "Settling"): the water moves under the case's forces
   // with its velocity damped at `settling_damping` (1/time) for `settling_time`, then starts
   // from where it came to rest, at rest. 0: no settling.
@@ -74,6 +131,8 @@ struct CaseDescription {
   std::vector<ProbeDescription> probes;
   // [[obstacle]]
   std::vector<ObstacleDescription> obstacles;
+
+  bool general() const { return !bodies.empty(); }
 };
 
 }  // namespace unisph::sph

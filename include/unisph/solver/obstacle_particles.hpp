@@ -219,14 +219,19 @@ void add_obstacles(TankParticles<T, D>& particles, const CaseDescription& c) {
   for (std::size_t k = 0; k < c.obstacles.size(); ++k) {
     const ObstacleParticles<D> body = load_obstacle<D>(c, k);
     const NearestBodyParticle<D> nearest(body.position, c.dx);
-    std::vector<Vec<T, D>> kept;
-    for (const Vec<T, D>& x : particles.fluid) {
+    std::vector<Vec<T, D>> kept, kept_velocity;
+    for (std::size_t i = 0; i < particles.fluid.size(); ++i) {
+      const Vec<T, D>& x = particles.fluid[i];
       Vec<double, D> p{};
       for (int a = 0; a < D; ++a) p[a] = double(x[a]);
-      if (obstacle_distance(body, nearest, p) >= 0.5 * c.dx) kept.push_back(x);
+      if (obstacle_distance(body, nearest, p) >= 0.5 * c.dx) {
+        kept.push_back(x);
+        if (!particles.fluid_velocity.empty()) kept_velocity.push_back(particles.fluid_velocity[i]);
+      }
     }
     particles.removed_fluid += particles.fluid.size() - kept.size();
     particles.fluid = std::move(kept);
+    if (!particles.fluid_velocity.empty()) particles.fluid_velocity = std::move(kept_velocity);
     for (std::size_t w : body.wall) {
       Vec<T, D> x{}, n{};
       for (int a = 0; a < D; ++a) x[a] = T(body.position[w][a]), n[a] = T(body.normal[w][a]);
@@ -234,6 +239,8 @@ void add_obstacles(TankParticles<T, D>& particles, const CaseDescription& c) {
       particles.wall_normal.push_back(n);
     }
     particles.obstacle_wall_counts.push_back(body.wall.size());
+    if (!particles.wall_groups.empty())
+      particles.wall_groups.emplace_back("obstacle_" + std::to_string(k + 1), body.wall.size());
   }
 }
 

@@ -1,13 +1,14 @@
 #pragma once
 // The layout of a solver checkpoint inside the checkpoint container (io/checkpoint_file.hpp),
-// format version 4:
+// format version 6:
 //
 //   "run"        dimension (u32), bytes of the floating type (u32), "float" or "double"
 //   "case"       every field of the CaseDescription (obstacles: resolved file, translation, line)
 //   "time"       time (f64), advection steps (u64), acoustic steps (u64), phase (u32): 0, the
 //                only phase a checkpoint is taken in, is "after an advection step, particles
-//                sorted when due, neighbour structures to be rebuilt from the positions"
-//   "body" x 2   fluid, then wall (the tank's particles, then each obstacle's): name, owned particles (u64), first id (u64), then each
+//                sorted when due, neighbour structures to be rebuilt from the positions"; fluid
+//                particles removed for leaving the domain (u64) and their mass (f64)
+//   "body" x 2   fluid, then wall (the wall bodies' particles in turn): name, owned particles (u64), first id (u64), then each
 //                sortable variable (ids included): name, type, element size (u64), bytes
 //   "observers"  the caller's run state (e.g. `unisph run`'s output counters): one block
 //
@@ -22,9 +23,10 @@
 
 namespace unisph::sph {
 
-// 2: time.cells_per_cutoff; 3: obstacles; 4: initial.settling_*; 5: time.last_acoustic_step and fluid.free_surface_density
+// 2: time.cells_per_cutoff; 3: obstacles; 4: initial.settling_*; 5: time.last_acoustic_step and fluid.free_surface_density;
+// 6: the general form (gravity vector, free surface, domain, shapes, bodies) and fluid removed from the domain
 // (older versions are refused with one line).
-inline constexpr std::uint32_t solver_checkpoint_version = 5;
+inline constexpr std::uint32_t solver_checkpoint_version = 6;
 
 void write_case(io::CheckpointWriter& out, const CaseDescription& c);
 CaseDescription read_case(io::CheckpointReader& in);

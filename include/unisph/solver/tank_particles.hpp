@@ -6,6 +6,8 @@
 //    multiple of dx); each carries the unit normal towards the nearest point of the tank's
 //    inside (the corners' normals point diagonally).
 #include <cmath>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "unisph/core/error.hpp"
@@ -24,6 +26,10 @@ struct TankParticles {
   // and the fluid lattice points removed because they overlapped one.
   std::vector<std::size_t> obstacle_wall_counts;
   std::size_t removed_fluid = 0;
+  // The general form (body_particles.hpp): each fluid particle's initial velocity (empty: at
+  // rest), and each named wall body's particle count in order (empty: the tank, then the obstacles).
+  std::vector<Vec<T, D>> fluid_velocity;
+  std::vector<std::pair<std::string, std::size_t>> wall_groups;
 };
 
 namespace tank_detail {

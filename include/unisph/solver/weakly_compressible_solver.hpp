@@ -1,5 +1,6 @@
 #pragma once
-// The weakly compressible SPH solver of a closed-tank free-surface case, with dual-criteria
+// The weakly compressible SPH solver of a free-surface case (the short form's closed tank or the
+// general form's bodies of any shape, case_description.hpp), with dual-criteria
 // time stepping:
 //
 //   each advection step Dt = 0.25 h / max(U, |v|max, mu/(rho0 h)):
@@ -46,6 +47,13 @@ struct PairCounts {
   std::uint64_t neighbor_pairs = 0;
 };
 
+// A wall body of the case: its name and how many wall particles it has (the wall's particle ids
+// are the first body's, then the second's, ...).
+struct WallBodyCount {
+  std::string name;
+  Index count = 0;
+};
+
 // What the settling stage before time 0 took (case_description.hpp, initial.settling_time).
 struct SettlingReport {
   double time = 0;  // simulated
@@ -82,6 +90,13 @@ class WeaklyCompressibleSolver {
   const std::vector<Index>& obstacle_wall_counts() const;
   // Fluid lattice points not made because they lay inside an obstacle or within dx/2 of it.
   Index removed_fluid_count() const;
+  // The wall bodies: the general form's [[body]] walls, then the obstacles ("obstacle_1", ...);
+  // the short form's "tank", then its obstacles.
+  const std::vector<WallBodyCount>& wall_bodies() const;
+  // Fluid particles removed since the start because they left the domain (domain.leaving =
+  // "remove"), and their mass.
+  Index left_domain_count() const;
+  double left_domain_mass() const;
   double smoothing_length() const;
   PolicyKind policy() const;
   const CaseDescription& description() const;

@@ -18,6 +18,7 @@
 #include "unisph/sph/neighbor_records.hpp"
 #include "unisph/sph/fused_updates.hpp"
 #include "unisph/sph/observers.hpp"
+#include "unisph/solver/body_particles.hpp"
 #include "unisph/solver/obstacle_particles.hpp"
 #include "unisph/sph/pressure_relaxation.hpp"
 #include "unisph/solver/solver_checkpoint.hpp"
@@ -35,17 +36,28 @@ template <class T, int D>
 struct WeaklyCompressibleSolver<T, D>::State {
   using Vector = Vec<T, D>;
 
+  // The general form's [domain]; the short form's tank with its walls.
   static Box<T, D> domain_of(const CaseDescription& c) {
     Box<T, D> box{};
     for (int a = 0; a < D; ++a) {
-      box.lower[a] = T(-wall_layers * c.dx);
-      box.upper[a] = T(c.tank[a] + wall_layers * c.dx);
+      if (c.general()) {
+        box.lower[a] = T(c.domain.lower[std::size_t(a)]);
+        box.upper[a] = T(c.domain.upper[std::size_t(a)]);
+      } else {
+        box.lower[a] = T(-wall_layers * c.dx);
+        box.upper[a] = T(c.tank[a] + wall_layers * c.dx);
+      }
     }
     return box;
   }
+  // physics.gravity as a vector; a description without one (a C++ program's short form) has
+  // |g| along -y.
   static Vector gravity_of(const CaseDescription& c) {
     Vector g{};
-    g[1] = T(-c.gravity);
+    if (int(c.gravity_vector.size()) == D)
+      for (int a = 0; a < D; ++a) g[a] = T(c.gravity_vector[std::size_t(a)]);
+    else
+      g[1] = T(-c.gravity);
     return g;
   }
   static T volume_of(double dx) {
@@ -68,21 +80,54 @@ struct WeaklyCompressibleSolver<T, D>::State {
   static const CaseDescription& checked(const CaseDescription& c) {
     if (c.dimension != D)
       throw Error("case '" + c.name + "' is " + std::to_string(c.dimension) + "D; this solver is " + std::to_string(D) + "D");
-    if (int(c.tank.size()) != D || int(c.column.size()) != D)
+    if (c.general()) {
+      if (int(c.domain.lower.size()) != D || int(c.domain.upper.size()) != D)
+        throw Error("case '" + c.name + "': the domain needs " + std::to_string(D) + " lower and upper bounds");
+    } else if (int(c.tank.size()) != D || int(c.column.size()) != D) {
       throw Error("case '" + c.name + "': tank and column need " + std::to_string(D) + " sizes");
+    }
     return c;
   }
-  static TankParticles<T, D> particles_of(const CaseDescription& c) {
-    TankParticles<T, D> p = make_tank_particles<T, D>(c.tank, c.column, c.dx);
+  static TankParticles<T, D> particles_of(const CaseDescription& c, PolicyKind kind) {
+    TankParticles<T, D> p;
+    if (c.general()) {
+      p = visit_policy(kind, [&](auto policy) { return make_body_particles<T, D>(policy, c); });
+    } else {
+      p = make_tank_particles<T, D>(c.tank, c.column, c.dx);
+    }
     add_obstacles(p, c);
     return p;
+  }
+  // Each wall body's name and particle count, in the order of the wall's ids.
+  static std::vector<WallBodyCount> wall_groups_of(const CaseDescription& c, const TankParticles<T, D>& p) {
+    std::vector<WallBodyCount> groups;
+    if (c.general()) {
+      for (const auto& [name, count] : p.wall_groups) groups.push_back({name, Index(count)});
+      for (std::size_t k = 0; k < p.obstacle_wall_counts.size(); ++k)
+        groups.push_back({"obstacle_" + std::to_string(k + 1), Index(p.obstacle_wall_counts[k])});
+    } else {
+      std::size_t obstacles = 0;
+      for (std::size_t n : p.obstacle_wall_counts) obstacles += n;
+      groups.push_back({"tank", Index(p.wall.size() - obstacles)});
+      for (std::size_t k = 0; k < p.obstacle_wall_counts.size(); ++k)
+        groups.push_back({"obstacle_" + std::to_string(k + 1), Index(p.obstacle_wall_counts[k])});
+    }
+    return groups;
+  }
+  // The short form keeps the tank's own box (tank_particles.hpp); the general form cuts the
+  // domain down around every wall particle.
+  static WallFreeBox<T, D> wall_free_of(const CaseDescription& c, const TankParticles<T, D>& p, const Box<T, D>& domain,
+                                        double cutoff) {
+    if (!c.general()) return WallFreeBox<T, D>::of_tank(c.tank, p.wall, cutoff);
+    return WallFreeBox<T, D>::around(p.wall, domain.lower, domain.upper, cutoff);
   }
 
   State(const CaseDescription& c, PolicyKind kind, bool settle_now)
       : description(checked(c)),
         policy(kind),
         kernel(WendlandC2Kernel<T, D>::from_spacing(T(c.dx))),
-        particles(particles_of(c)),
+        particles(particles_of(c, kind)),
+        wall_groups(wall_groups_of(c, particles)),
         obstacle_counts(particles.obstacle_wall_counts.begin(), particles.obstacle_wall_counts.end()),
         removed_fluid(particles.removed_fluid),
         domain(domain_of(c)),
@@ -103,7 +148,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
         density_summation(fluid, inner, contact, kernel, T(c.dx), T(c.density), c.free_surface_density == "carried"),
         prior_acceleration(fluid, inner, contact, kernel, gravity_of(c), T(c.viscosity), wall_volume),
         pressure_start(fluid, eos),
-        wall_free(WallFreeBox<T, D>::of_tank(c.tank, particles.wall, double(kernel.cutoff()))),
+        wall_free(wall_free_of(c, particles, domain, double(kernel.cutoff()))),
         pressure_relaxation(fluid, wall, inner, contact, kernel, riemann, wall_volume, wall_free),
         velocity_update(fluid),
         density_relaxation(fluid, wall, inner, contact, kernel, riemann, wall_volume, c.continuity_dissipation, wall_free),
@@ -117,7 +162,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
         energy(fluid, gravity_of(c)),
         total_mass(fluid) {
     if (particles.fluid.empty())
-      throw Error("case '" + c.name + "': the column holds no particle at dx = " + std::to_string(c.dx) +
+      throw Error("case '" + c.name + "': the fluid holds no particle at dx = " + std::to_string(c.dx) +
                   (removed_fluid ? " (the obstacles took all " + std::to_string(removed_fluid) + ")" : std::string()));
     for (const ProbeDescription& p : c.probes) {
       Vector x{};
@@ -161,12 +206,21 @@ struct WeaklyCompressibleSolver<T, D>::State {
       View<T> p = fluid.pressure.write(MemorySpace::host);
       View<T> m = fluid.mass.write(MemorySpace::host);
       View<T> drho = fluid.density_change_rate.write(MemorySpace::host);
-      const double depth_of_surface = description.column[1];
+      // The hydrostatic start: p = rho0 |g| (level of the surface - level of x), levels measured
+      // along -g (the short form: heights along y, as before).
+      const double surface = description.general() ? description.free_surface : description.column[1];
+      const Vector g = gravity_of(description);
+      const auto level = [&](const Vector& p) {
+        if (!description.general()) return double(p[1]);
+        double along = 0;
+        for (int a = 0; a < D; ++a) along -= double(g[a]) * double(p[a]);
+        return along / description.gravity;
+      };
       for (Index i = 0; i < n; ++i) {
         x[i] = particles.fluid[i];
-        v[i] = Vector{};
+        v[i] = particles.fluid_velocity.empty() ? Vector{} : particles.fluid_velocity[i];
         const double pressure =
-            description.hydrostatic ? description.density * description.gravity * (depth_of_surface - double(x[i][1])) : 0.0;
+            description.hydrostatic ? description.density * description.gravity * (surface - level(x[i])) : 0.0;
         p[i] = T(pressure);
         rho[i] = eos.density(T(pressure));
         m[i] = rho[i] * wall_volume;
@@ -199,7 +253,42 @@ struct WeaklyCompressibleSolver<T, D>::State {
     // After a sort or a restore the relaxations' neighbour records follow the new order.
     refresh_records.exec(p);
     const CellListReport report = fluid_cells.report();
-    if (report.out_of_box != 0 || report.non_finite != 0) diagnose("a fluid particle left the domain");
+    if (report.non_finite != 0 || (report.out_of_box != 0 && description.domain.leaving != "remove"))
+      diagnose("a fluid particle left the domain");
+    if (report.out_of_box != 0) {
+      remove_leaving(p);
+      rebuild(p);
+    }
+  }
+
+  // Removes the fluid particles outside the domain (domain.leaving = "remove"): the others keep
+  // their order, the removed ones are counted with their mass, and the neighbour structures
+  // are rebuilt by the caller. Host code: particles leave rarely, so a copy there costs little.
+  template <class P>
+  void remove_leaving(P p) {
+    ParticleSet& set = fluid_body.particles();
+    const Index n = set.owned_count();
+    std::vector<std::uint32_t> order;
+    order.reserve(n);
+    Index kept = 0;
+    {
+      View<const Vector> x = fluid.position.read(MemorySpace::host);
+      View<const T> m = fluid.mass.read(MemorySpace::host);
+      for (Index i = 0; i < n; ++i)
+        if (domain.contains(x[i])) order.push_back(std::uint32_t(i));
+      kept = Index(order.size());
+      for (Index i = 0; i < n; ++i)
+        if (!domain.contains(x[i])) {
+          order.push_back(std::uint32_t(i));
+          removed_mass += double(m[i]);
+        }
+    }
+    removed_particles += n - kept;
+    if (kept == 0) diagnose("every fluid particle has left the domain");
+    DiscreteVariable<std::uint32_t> permutation("RemovalOrder");
+    permutation.assign(order);
+    set.reorder(p, permutation.read(p));
+    set.shrink_owned(p, kept);
   }
 
   // Finds the first particle with a non-finite value or outside the domain and throws.
@@ -338,6 +427,8 @@ struct WeaklyCompressibleSolver<T, D>::State {
     out.u64(advection_steps);
     out.u64(acoustic_steps);
     out.u32(0);  // phase: between advection steps (solver_checkpoint.hpp)
+    out.u64(removed_particles);
+    out.f64(removed_mass);
     write_body(out, fluid_body);
     write_body(out, wall_body);
     out.section("observers");
@@ -364,6 +455,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
 
   // The contents of one body, read and checked in full before any variable is overwritten.
   struct StagedBody {
+    Index owned = 0;
     std::vector<std::pair<VariableBase*, std::string>> variables;
   };
   static StagedBody read_body(io::CheckpointReader& in, Body<T, D>& body) {
@@ -372,15 +464,17 @@ struct WeaklyCompressibleSolver<T, D>::State {
     const std::string name = in.string();
     if (name != body.name()) in.fail("holds body '" + name + "' where '" + body.name() + "' was expected");
     const std::uint64_t owned = in.u64();
-    if (owned != set.owned_count())
-      in.fail("holds " + std::to_string(owned) + " particles of '" + name + "'; this case has " +
-              std::to_string(set.owned_count()));
+    // Fluid particles may have left the domain since the start: fewer, never more.
+    const std::uint64_t made = set.index_of_id().size();
+    if (owned > made || (owned != made && name != "Water"))
+      in.fail("holds " + std::to_string(owned) + " particles of '" + name + "'; this case has " + std::to_string(made));
     if (in.u64() != set.first_id()) in.fail("holds other particle ids for '" + name + "'");
     const std::uint64_t count = in.u64();
     if (count != set.variables().sortable_names().size())
       in.fail("holds " + std::to_string(count) + " variables of '" + name + "'; this solver has " +
               std::to_string(set.variables().sortable_names().size()));
     StagedBody staged;
+    staged.owned = Index(owned);
     for (std::uint64_t k = 0; k < count; ++k) {
       const std::string variable = in.string();
       const std::string type = in.string();
@@ -399,11 +493,19 @@ struct WeaklyCompressibleSolver<T, D>::State {
     return staged;
   }
   static void commit(Body<T, D>& body, const StagedBody& staged) {
+    if (staged.owned != body.particles().owned_count()) {
+      // A fresh set holds every particle made at the start: keep as many as the checkpoint's.
+      if (staged.owned > body.particles().owned_count())
+        throw Error("checkpoint: body '" + body.name() + "' has fewer particles than the checkpoint (" +
+                    std::to_string(body.particles().owned_count()) + " < " + std::to_string(staged.owned) + ")");
+      body.particles().shrink_owned(seq, staged.owned);
+    }
     for (const auto& [variable, bytes] : staged.variables)
       if (!bytes.empty()) std::memcpy(variable->prepare(MemorySpace::host, Access::write), bytes.data(), bytes.size());
     ParticleSet& set = body.particles();
     View<const std::uint64_t> id = set.ids().read(MemorySpace::host);
     View<std::uint32_t> index = set.index_of_id().write(MemorySpace::host);
+    for (Index k = 0; k < index.size(); ++k) index[k] = absent_particle_index;
     for (Index i = 0; i < set.owned_count(); ++i) index[id[i] - set.first_id()] = std::uint32_t(i);
   }
 
@@ -425,6 +527,8 @@ struct WeaklyCompressibleSolver<T, D>::State {
     const std::uint64_t saved_acoustic = in.u64();
     if (const std::uint32_t phase = in.u32(); phase != 0)
       in.fail("was taken in phase " + std::to_string(phase) + " of an advection step; this solver knows phase 0");
+    const std::uint64_t saved_removed = in.u64();
+    const double saved_removed_mass = in.f64();
     const StagedBody staged_fluid = read_body(in, fluid_body);
     const StagedBody staged_wall = read_body(in, wall_body);
     in.section("observers");
@@ -436,6 +540,8 @@ struct WeaklyCompressibleSolver<T, D>::State {
     time = saved_time;
     advection_steps = saved_advection;
     acoustic_steps = saved_acoustic;
+    removed_particles = Index(saved_removed);
+    removed_mass = saved_removed_mass;
     last_acoustic_dt = 0;
     // As at the end of an advection step: neighbour structures from the restored order.
     visit_policy(policy, [&](auto p) {
@@ -483,6 +589,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
   PolicyKind policy;
   WendlandC2Kernel<T, D> kernel;
   TankParticles<T, D> particles;
+  std::vector<WallBodyCount> wall_groups;  // each wall body's particles, in the order of their ids
   std::vector<Index> obstacle_counts;  // wall particles of each obstacle (after the tank's)
   Index removed_fluid = 0;             // lattice points the obstacles took
   Box<T, D> domain;
@@ -522,6 +629,8 @@ struct WeaklyCompressibleSolver<T, D>::State {
   std::uint64_t acoustic_steps = 0;
   double last_acoustic_dt = 0;  // for pressure_relaxation_pass()
   double damping_rate = 0;      // 1/time, while settling
+  Index removed_particles = 0;  // fluid particles that left the domain (domain.leaving = "remove")
+  double removed_mass = 0;
   SettlingReport settling;
 };
 
@@ -551,6 +660,12 @@ template <class T, int D>
 const std::vector<Index>& WeaklyCompressibleSolver<T, D>::obstacle_wall_counts() const { return state_->obstacle_counts; }
 template <class T, int D>
 Index WeaklyCompressibleSolver<T, D>::removed_fluid_count() const { return state_->removed_fluid; }
+template <class T, int D>
+const std::vector<WallBodyCount>& WeaklyCompressibleSolver<T, D>::wall_bodies() const { return state_->wall_groups; }
+template <class T, int D>
+Index WeaklyCompressibleSolver<T, D>::left_domain_count() const { return state_->removed_particles; }
+template <class T, int D>
+double WeaklyCompressibleSolver<T, D>::left_domain_mass() const { return state_->removed_mass; }
 template <class T, int D>
 double WeaklyCompressibleSolver<T, D>::smoothing_length() const { return double(state_->kernel.h); }
 template <class T, int D>

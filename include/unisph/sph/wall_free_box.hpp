@@ -8,6 +8,7 @@
 // outside the open box (0, tank) (tank_particles.hpp), so the box is [m, tank - m] per axis
 // with m the cutoff and a 1 % margin that covers the rounding of the pair test; it is checked
 // against the wall particles and left empty if one lies inside (0, tank).
+#include <algorithm>
 #include <cstddef>
 #include <limits>
 #include <vector>
@@ -34,6 +35,46 @@ struct WallFreeBox {
       box.lower[a] = std::numeric_limits<T>::infinity();
       box.upper[a] = -std::numeric_limits<T>::infinity();
     }
+    return box;
+  }
+
+  // For any walls: the box `start` (a domain) cut down, wall particle by wall particle, so that
+  // none lies within the margin of it; each cut moves the one face that keeps the most volume.
+  // A tank's walls give nearly of_tank's box; walls inside the domain give a smaller box (or an
+  // empty one). The result depends on the order of `wall`, which is fixed at set-up.
+  static WallFreeBox around(const std::vector<Vec<T, D>>& wall, const Vec<T, D>& start_lower, const Vec<T, D>& start_upper,
+                            double cutoff) {
+    const double margin = 1.01 * cutoff;
+    double lo[D], hi[D];
+    for (int a = 0; a < D; ++a) lo[a] = double(start_lower[a]) + margin, hi[a] = double(start_upper[a]) - margin;
+    const auto volume = [&](const double* l, const double* h) {
+      double v = 1;
+      for (int a = 0; a < D; ++a) v *= std::max(0.0, h[a] - l[a]);
+      return v;
+    };
+    for (const Vec<T, D>& w : wall) {
+      bool near = true;
+      for (int a = 0; a < D; ++a) near = near && double(w[a]) > lo[a] - margin && double(w[a]) < hi[a] + margin;
+      if (!near) continue;
+      int best_axis = 0;
+      bool best_upper = false;
+      double best = -1;
+      for (int a = 0; a < D; ++a)
+        for (int side = 0; side < 2; ++side) {
+          double l[D], h[D];
+          for (int b = 0; b < D; ++b) l[b] = lo[b], h[b] = hi[b];
+          if (side == 0) l[a] = std::max(l[a], double(w[a]) + margin);
+          else h[a] = std::min(h[a], double(w[a]) - margin);
+          const double v = volume(l, h);
+          if (v > best) best = v, best_axis = a, best_upper = side == 1;
+        }
+      if (best_upper) hi[best_axis] = std::min(hi[best_axis], double(w[best_axis]) - margin);
+      else lo[best_axis] = std::max(lo[best_axis], double(w[best_axis]) + margin);
+    }
+    for (int a = 0; a < D; ++a)
+      if (!(lo[a] < hi[a])) return empty();
+    WallFreeBox box{};
+    for (int a = 0; a < D; ++a) box.lower[a] = T(lo[a]), box.upper[a] = T(hi[a]);
     return box;
   }
 
