@@ -73,6 +73,21 @@ class PressureRelaxationStart : public UpdateDynamics<PressureRelaxationStart<T,
   WeaklyCompressibleEquationOfState<T> eos_;
 };
 
+// The momentum equation's term of one wall dummy particle w for fluid particle i,
+// 2 p*_iw dW_iw V_w e_iw (a_i gets -1/rho_i times the sum over fluid and wall neighbours), with
+// the dummy pressure p_w of wall_dummy_pressure.hpp and the mirrored normal velocity. One
+// function for PressureRelaxation and the wall loads (wall_load.hpp), so they cannot drift apart.
+template <class T, int D>
+UNISPH_HOST_DEVICE inline Vec<T, D> wall_pressure_term(const AcousticRiemannSolver<T>& riemann, T p_i, T rho_i,
+                                                       const Vec<T, D>& v_i, const Vec<T, D>& a0_i,
+                                                       const Vec<T, D>& n_w, const NeighborPair<T, D>& pair, T dW,
+                                                       T wall_volume) {
+  const Vec<T, D>& e = pair.direction();
+  const T p_w = wall_dummy_pressure(p_i, rho_i, a0_i, pair.r_ij);
+  const T jump = -T(2) * dot(v_i, n_w);
+  return e * (riemann.twice_interface_pressure(p_i, p_w, jump) * dW * wall_volume);
+}
+
 template <class T, int D>
 class PressureRelaxation : public InteractionDynamics<PressureRelaxation<T, D>> {
  public:
@@ -117,11 +132,7 @@ class PressureRelaxation : public InteractionDynamics<PressureRelaxation<T, D>> 
       if (contact.uses_stored_lists() || !wall_free.contains(position_volume[i].position)) {
         const Vec<T, D> a0 = prior_acceleration[i];
         contact.for_each_weighted_neighbor(i, derivative, [&](Index w, const NeighborPair<T, D>& pair, T dW) {
-          const Vec<T, D>& e = pair.direction();
-          const Vec<T, D> n = wall_normal[w];
-          const T p_w = wall_dummy_pressure(p_i, rho_i, a0, pair.r_ij);
-          const T jump = -T(2) * dot(v_i, n);
-          force += e * (riemann.twice_interface_pressure(p_i, p_w, jump) * dW * wall_volume);
+          force += wall_pressure_term(riemann, p_i, rho_i, v_i, a0, wall_normal[w], pair, dW, wall_volume);
         });
       }
       acceleration[i] = force * (-T(1) / rho_i);
