@@ -139,6 +139,68 @@ std::string box_tank_2d(double dx, double width, double settling) {
   return s.str();
 }
 
+// The loads averaged over the advection steps of [0, window] after the settling (the water's
+// small vertical oscillation after its release, of period about 2 d / c0 ... sloshing, averages out).
+template <class T, int D>
+std::vector<WallBodyLoad<double, D>> averaged(WeaklyCompressibleSolver<T, D>& solver, SolverWallLoads<T, D>& loads,
+                                              double window) {
+  std::vector<WallBodyLoad<double, D>> sum(solver.wall_bodies().size(), WallBodyLoad<double, D>{});
+  int samples = 0;
+  const auto add = [&] {
+    const auto f = loads.measure();
+    for (std::size_t b = 0; b < f.size(); ++b) {
+      for (int a = 0; a < D; ++a) sum[b].force[a] += double(f[b].force[a]);
+      for (int a = 0; a < moment_components<D>; ++a) sum[b].moment[a] += double(f[b].moment[a]);
+    }
+    ++samples;
+  };
+  add();
+  while (solver.time() < window) {
+    solver.advance(window);
+    add();
+  }
+  for (auto& l : sum) {
+    l.force = l.force * (1.0 / samples);
+    l.moment = l.moment * (1.0 / samples);
+  }
+  return sum;
+}
+
+// A 2D tank [0, a + 1.5] x [0, 1.5] (a = 1) whose right side is a 45 degree slope rising from
+// (a, 0): the solid below the plane y = x - a (a half-space cut by y >= 0: the floor under it is
+// the floor's). Bodies: floor (y < 0, the whole width), left (x < 0 above it), slope.
+std::string slope_tank_2d(double dx, double settling) {
+  const double e = 8 * dx, top = 1.5, a = 1.0, right = a + top;
+  std::ostringstream s;
+  s << "[case]\nname = \"hydrostatic_loads_slope_2d\"\ndimension = 2\n[geometry]\ndx = " << dx << "\n"
+    << "[domain]\nlower = " << numbers({-4 * dx, -4 * dx}) << "\nupper = " << numbers({right + 4 * dx, top}) << "\n"
+    << "leaving = \"stop\"\n[physics]\ngravity = [0.0, -1.0]\n"
+    << box_shape("floor", {-e, -e}, {right + e, 0}) << box_shape("left", {-e, 0}, {0, top + e})
+    << box_shape("slope_box", {a - e, 0}, {right + e, top + e})
+    << "[[shape]]\nname = \"slope_plane\"\ntype = \"half_space\"\npoint = " << numbers({a, 0})
+    << "\nnormal = [-0.7071067811865476, 0.7071067811865476]\n"
+    << "[[shape]]\nname = \"slope\"\ntype = \"intersection\"\nshapes = [\"slope_box\", \"slope_plane\"]\n"
+    << box_shape("water", {0, 0}, {a + 1.0, 1.0}) << wall_body("floor") << wall_body("left") << wall_body("slope")
+    << common(settling);
+  return s.str();
+}
+
+// A 3D box tank [0, w] x [0, 1.5] x [0, w] (y up) holding water of depth 1: the floor under the
+// whole footprint, left and right walls (x) over the whole depth in z, front and back (z) between.
+std::string box_tank_3d(double dx, double width, double settling) {
+  const double e = 8 * dx, top = 1.5, w = width;
+  std::ostringstream s;
+  s << "[case]\nname = \"hydrostatic_loads_box_3d\"\ndimension = 3\n[geometry]\ndx = " << dx << "\n"
+    << "[domain]\nlower = " << numbers({-4 * dx, -4 * dx, -4 * dx}) << "\nupper = " << numbers({w + 4 * dx, top, w + 4 * dx})
+    << "\nleaving = \"stop\"\n[physics]\ngravity = [0.0, -1.0, 0.0]\n"
+    << box_shape("floor", {-e, -e, -e}, {w + e, 0, w + e}) << box_shape("left", {-e, 0, -e}, {0, top + e, w + e})
+    << box_shape("right", {w, 0, -e}, {w + e, top + e, w + e}) << box_shape("front", {0, 0, -e}, {w, top + e, 0})
+    << box_shape("back", {0, 0, w}, {w, top + e, w + e}) << box_shape("water", {0, 0, 0}, {w, 1.0, w})
+    << wall_body("floor") << wall_body("left") << wall_body("right") << wall_body("front") << wall_body("back")
+    << common(settling);
+  return s.str();
+}
+
 struct Timer {
   std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
   double seconds() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); }
@@ -149,12 +211,12 @@ struct Timer {
 UNISPH_POLICY_TEST_SUITE(HydrostaticLoads);
 
 TYPED_TEST(HydrostaticLoads, BoxTank2D) {
-  const double dx = 1.0 / 20, width = 2.0;
+  const double dx = 1.0 / 20, width = 2.0, window = 2.0;
   const Timer timer;
   WeaklyCompressibleSolver<double, 2> solver(parse_case(box_tank_2d(dx, width, 20.0), "hydrostatic_loads_box_2d.toml"),
                                              kind_of<TypeParam>());
   SolverWallLoads<double, 2> loads(solver, {{0.0, 0.0}});
-  const auto f = loads.measure();
+  const auto f = averaged(solver, loads, window);
   const double weight = solver.observe().mass;  // g = 1
   const double side = 0.5;                      // 1/2 rho g d^2
   const auto &floor = f[loads.body("floor")], &left = f[loads.body("left")], &right = f[loads.body("right")];
@@ -167,5 +229,47 @@ TYPED_TEST(HydrostaticLoads, BoxTank2D) {
               floor.force[0]);
   EXPECT_NEAR(-left.force[0] / side, 1.0, 0.02);
   EXPECT_NEAR(right.force[0] / side, 1.0, 0.02);
+  EXPECT_NEAR(-floor.force[1] / weight, 1.0, 0.01);
+}
+
+TYPED_TEST(HydrostaticLoads, SlopingSide2D) {
+  const double dx = 1.0 / 20, window = 2.0;
+  const Timer timer;
+  WeaklyCompressibleSolver<double, 2> solver(parse_case(slope_tank_2d(dx, 20.0), "hydrostatic_loads_slope_2d.toml"),
+                                             kind_of<TypeParam>());
+  SolverWallLoads<double, 2> loads(solver, {{0.0, 0.0}});
+  const auto f = averaged(solver, loads, window);
+  const Vec<double, 2> n{{-std::sqrt(0.5), std::sqrt(0.5)}};  // out of the slope, into the water
+  const auto& slope = f[loads.body("slope")];
+  const double normal = -dot(slope.force, n), tangential = slope.force[0] * n[1] - slope.force[1] * n[0];
+  const double expected = 1.0 / (2 * std::sqrt(0.5));  // rho g d^2 / (2 sin 45)
+  std::printf("%s 2D tank with a 45 degree side, d/dx = %g, settled %g, averaged over t = 0..%g (%.1f s): normal force on "
+              "the slope %.6f (%+.2f %%) against rho g d^2 / (2 sin 45) = %.6f (2 %%), tangential %.2e; left wall %.6f\n",
+              std::string(TypeParam::test_label).c_str(), 1 / dx, solver.settling().time, window, timer.seconds(), normal,
+              100 * (normal / expected - 1), expected, tangential, -f[loads.body("left")].force[0]);
+  EXPECT_NEAR(normal / expected, 1.0, 0.02);
+}
+
+TYPED_TEST(HydrostaticLoads, BoxTank3D) {
+  const double dx = 1.0 / 10, width = 1.0, window = 2.0;
+  const Timer timer;
+  WeaklyCompressibleSolver<double, 3> solver(parse_case(box_tank_3d(dx, width, 20.0), "hydrostatic_loads_box_3d.toml"),
+                                             kind_of<TypeParam>());
+  SolverWallLoads<double, 3> loads(solver, {{0.0, 0.0, 0.0}});
+  const auto f = averaged(solver, loads, window);
+  const double weight = solver.observe().mass, side = 0.5 * width;
+  const auto& floor = f[loads.body("floor")];
+  const double left = -f[loads.body("left")].force[0], right = f[loads.body("right")].force[0];
+  const double front = -f[loads.body("front")].force[2], back = f[loads.body("back")].force[2];
+  std::printf("%s 3D box tank, d/dx = %g, width %g d, settled %g, averaged over t = 0..%g (%.1f s): left %.6f (%+.2f %%), "
+              "right %.6f (%+.2f %%), front %.6f (%+.2f %%), back %.6f (%+.2f %%) against 1/2 rho g d^2 w = %g (2 %%); "
+              "floor %.6f (%+.2f %%) against the weight %.6f (1 %%)\n",
+              std::string(TypeParam::test_label).c_str(), 1 / dx, width, solver.settling().time, window, timer.seconds(),
+              left, 100 * (left / side - 1), right, 100 * (right / side - 1), front, 100 * (front / side - 1), back,
+              100 * (back / side - 1), side, -floor.force[1], 100 * (-floor.force[1] / weight - 1), weight);
+  EXPECT_NEAR(left / side, 1.0, 0.02);
+  EXPECT_NEAR(right / side, 1.0, 0.02);
+  EXPECT_NEAR(front / side, 1.0, 0.02);
+  EXPECT_NEAR(back / side, 1.0, 0.02);
   EXPECT_NEAR(-floor.force[1] / weight, 1.0, 0.01);
 }

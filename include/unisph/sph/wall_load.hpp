@@ -21,7 +21,7 @@
 // own viscous term and not stored apart.
 //
 // Two kernels: WallLoadTerms writes each fluid particle's force and moment per body (n x B
-// records), then one WallLoadSum per body sums its column with deterministic_reduce, so the
+// records, WallBodyLoad), then one WallLoadSum per body sums its column with deterministic_reduce, so the
 // per-particle terms being equal, the loads have the same bits on seq, par and the GPU.
 // The caller keeps the contact relation (fluid -> wall) up to date (update() after the wall's
 // cell list was built and whenever the fluid moved) and calls exec(policy) between steps.
@@ -45,15 +45,17 @@ namespace unisph::sph {
 template <int D>
 inline constexpr int moment_components = D == 2 ? 1 : 3;
 
-// The load on one wall body: force (D components), then moment (1 in 2D, 3 in 3D).
-template <class T, int D>
-using WallLoadRecord = Vec<T, D + moment_components<D>>;
-
+// The load on one wall body: force and moment (1 component in 2D, 3 in 3D).
 template <class T, int D>
 struct WallBodyLoad {
-  Vec<T, D> force{};
-  Vec<T, moment_components<D>> moment{};
+  Vec<T, D> force;  // no initialisers: a variable's element (value-initialise: WallBodyLoad<T, D>{})
+  Vec<T, moment_components<D>> moment;
+  UNISPH_HOST_DEVICE friend WallBodyLoad operator+(const WallBodyLoad& a, const WallBodyLoad& b) {
+    return {a.force + b.force, a.moment + b.moment};
+  }
 };
+template <class T, int D>
+using WallLoadRecord = WallBodyLoad<T, D>;
 
 // (x_i - c) x F: the z component in 2D.
 template <class T, int D>
@@ -102,19 +104,15 @@ class WallLoadTerms : public InteractionDynamics<WallLoadTerms<T, D>> {
         const std::uint64_t id = wall_id[w];
         Index b = 0;
         while (b + 1 < bodies && id >= body_end[b]) ++b;
-        for (int a = 0; a < D; ++a) own[b][a] += term[a];
+        own[b].force += term;
       });
       // The acceleration from body b is -(1/rho_i) sum; the reaction on b is -m_i times it.
       const Vec<T, D> arm = position[i] - moment_point;
       const T m_i = mass[i];
       for (Index b = 0; b < bodies; ++b) {
-        Vec<T, D> sum;
-        for (int a = 0; a < D; ++a) sum[a] = own[b][a];
-        const Vec<T, D> acceleration = sum * (-T(1) / rho_i);
+        const Vec<T, D> acceleration = own[b].force * (-T(1) / rho_i);
         const Vec<T, D> force = acceleration * (-m_i);
-        const Vec<T, moment_components<D>> moment = moment_of<T, D>(arm, force);
-        for (int a = 0; a < D; ++a) own[b][a] = force[a];
-        for (int a = 0; a < moment_components<D>; ++a) own[b][D + a] = moment[a];
+        own[b] = WallLoadRecord<T, D>{force, moment_of<T, D>(arm, force)};
       }
     }
   };
@@ -207,12 +205,8 @@ class WallLoad {
     const Index records = fluid_.size() * bodies();
     if (terms_.size() != records) terms_.resize(records);  // the fluid may have lost particles
     terms_kernel_.exec(policy);
-    std::vector<WallBodyLoad<T, D>> loads(static_cast<std::size_t>(bodies()));
-    for (Index b = 0; b < bodies(); ++b) {
-      const WallLoadRecord<T, D> sum = sums_[b]->exec(policy);
-      for (int a = 0; a < D; ++a) loads[b].force[a] = sum[a];
-      for (int a = 0; a < moment_components<D>; ++a) loads[b].moment[a] = sum[D + a];
-    }
+    std::vector<WallBodyLoad<T, D>> loads;
+    for (Index b = 0; b < bodies(); ++b) loads.push_back(sums_[b]->exec(policy));
     return loads;
   }
 
