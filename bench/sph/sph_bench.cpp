@@ -1,6 +1,9 @@
 // The dam break timed on each policy, float and double (issue 4, "Benchmarks"):
 //   2D (cases/dambreak_2d.toml) at dx = H/40, H/80, H/160, H/320
 //   3D (cases/dambreak_3d.toml) at dx = 0.05, 0.025, 0.0125, 0.00625 (H = 1)
+// and, in 3D, the same case in the general form (SphDamBreakGeneral: cases/dambreak_general_3d.toml,
+// the tank as shapes) and with an STL pillar in the water's path (SphDamBreakStl:
+// cases/dambreak_stl_3d.toml), so that the forms' speeds can be compared (issue 21).
 // Each is restarted from a checkpoint at t sqrt(g/H) = 6 (after the impact, not the first
 // steps of a lattice) and timed over 1,000 acoustic steps (whole advection steps: the count
 // reported is the one run). The bench makes a missing checkpoint itself (in a child process,
@@ -64,6 +67,7 @@ struct Settings {
 Settings settings;
 
 struct Config {
+  std::string case_file;  // in the cases folder
   int dimension;
   double dx;           // in units of H
   std::string dx_name; // "H_40", "0.025"
@@ -83,8 +87,7 @@ std::size_t device_free_bytes() {
 }
 
 sph::CaseDescription description_of(const Config& c) {
-  sph::CaseDescription d =
-      sph::read_case_file((settings.cases / (c.dimension == 2 ? "dambreak_2d.toml" : "dambreak_3d.toml")).string());
+  sph::CaseDescription d = sph::read_case_file((settings.cases / c.case_file).string());
   d.dx = c.dx * d.length_scale;
   return d;
 }
@@ -103,15 +106,16 @@ void make_checkpoint(const sph::CaseDescription& d, const fs::path& file) {
                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
 }
 
-// "D:dx:precision:file" (dx in units of H).
+// "D:dx:precision:case:file" (dx in units of H; case: the case file's name in the cases folder).
 int make_checkpoint_from(const std::string& spec) {
   try {
-    const std::size_t a = spec.find(':'), b = spec.find(':', a + 1), c = spec.find(':', b + 1);
-    if (a == std::string::npos || b == std::string::npos || c == std::string::npos)
-      throw Error("--sph_make=" + spec + ": expected D:dx:precision:file");
-    Config config{std::stoi(spec.substr(0, a)), std::stod(spec.substr(a + 1, b - a - 1)), "",
+    const std::size_t a = spec.find(':'), b = spec.find(':', a + 1), c = spec.find(':', b + 1),
+                      e = c == std::string::npos ? c : spec.find(':', c + 1);
+    if (a == std::string::npos || b == std::string::npos || c == std::string::npos || e == std::string::npos)
+      throw Error("--sph_make=" + spec + ": expected D:dx:precision:case:file");
+    Config config{spec.substr(c + 1, e - c - 1), std::stoi(spec.substr(0, a)), std::stod(spec.substr(a + 1, b - a - 1)), "",
                   spec.substr(b + 1, c - b - 1) == "float", PolicyKind::seq, 0};
-    const fs::path file = spec.substr(c + 1);
+    const fs::path file = spec.substr(e + 1);
     const sph::CaseDescription d = description_of(config);
     if (config.dimension == 2)
       config.single ? make_checkpoint<float, 2>(d, file) : make_checkpoint<double, 2>(d, file);
@@ -127,8 +131,8 @@ int make_checkpoint_from(const std::string& spec) {
 template <class T, int D>
 fs::path checkpoint_for(const Config& c, const sph::CaseDescription& d) {
   char name[160];
-  std::snprintf(name, sizeof name, "dambreak_%dd_dx%s_%s_t%g.bin", D, c.dx_name.c_str(), c.single ? "float" : "double",
-                settings.checkpoint_time);
+  std::snprintf(name, sizeof name, "%s_dx%s_%s_t%g.bin", fs::path(c.case_file).stem().c_str(), c.dx_name.c_str(),
+                c.single ? "float" : "double", settings.checkpoint_time);
   const fs::path file = settings.cache / name;
   if (fs::exists(file)) {
     // A cached checkpoint of an older version of the case file, or of an older checkpoint
@@ -149,7 +153,7 @@ fs::path checkpoint_for(const Config& c, const sph::CaseDescription& d) {
   char dx[64];
   std::snprintf(dx, sizeof dx, "%.17g", c.dx);
   const std::string command = "'" + fs::read_symlink("/proc/self/exe").string() + "' '--sph_make=" + std::to_string(D) + ":" + dx + ":" +
-                              (c.single ? "float" : "double") + ":" + file.string() + "' '--sph_cases=" +
+                              (c.single ? "float" : "double") + ":" + c.case_file + ":" + file.string() + "' '--sph_cases=" +
                               settings.cases.string() + "' '--sph_checkpoint_time=" +
                               std::to_string(settings.checkpoint_time) + "'";
   if (std::system(command.c_str()) != 0 || !fs::exists(file))
@@ -226,7 +230,7 @@ void run_dam_break_checked(benchmark::State& state, const Config& c) {
   state.counters["neighbor_pairs_per_s"] = double(pairs.neighbor_pairs) / pass;
   state.counters["neighbors_per_fluid_particle"] = double(pairs.neighbor_pairs) / fluid;
   state.counters["device_bytes_per_particle"] = device ? double(free_before - free_least) / (fluid + wall) : 0.0;
-  state.SetLabel(std::string(D == 2 ? "2D" : "3D") + " dx " + c.dx_name + " " + (c.single ? "float" : "double") + " " +
+  state.SetLabel(c.case_file + " " + std::string(D == 2 ? "2D" : "3D") + " dx " + c.dx_name + " " + (c.single ? "float" : "double") + " " +
                  policy_label(c.policy) + (c.policy == PolicyKind::par ? " (" + std::to_string(host_threads()) + " threads)" : ""));
 }
 
@@ -235,19 +239,21 @@ void register_all() {
   for (int n : {40, 80, 160, 320})
     for (bool single : {true, false})
       for (PolicyKind k : execution_info().available)
-        configs.push_back({2, 1.0 / n, "H_" + std::to_string(n), single, k, 2.0 * n * n});
+        configs.push_back({"dambreak_2d.toml", 2, 1.0 / n, "H_" + std::to_string(n), single, k, 2.0 * n * n});
   const char* names3[] = {"0.05", "0.025", "0.0125", "0.00625"};
   const double dx3[] = {0.05, 0.025, 0.0125, 0.00625};
-  for (int s = 0; s < 4; ++s)
-    for (bool single : {true, false})
-      for (PolicyKind k : execution_info().available)
-        configs.push_back({3, dx3[s], names3[s], single, k, 1.0 / (dx3[s] * dx3[s] * dx3[s])});
+  for (const char* file : {"dambreak_3d.toml", "dambreak_general_3d.toml", "dambreak_stl_3d.toml"})
+    for (int s = 0; s < 4; ++s)
+      for (bool single : {true, false})
+        for (PolicyKind k : execution_info().available)
+          configs.push_back({file, 3, dx3[s], names3[s], single, k, 1.0 / (dx3[s] * dx3[s] * dx3[s])});
   // Ascending particle count (float before double): the device's kept scratch storage then
   // only grows, and the quick cases come first.
   std::stable_sort(configs.begin(), configs.end(),
                    [](const Config& a, const Config& b) { return a.estimated_particles < b.estimated_particles; });
   for (const Config& c : configs) {
-    const std::string name = std::string("SphDamBreak/") + (c.dimension == 2 ? "2D/" : "3D/") + c.dx_name + "/" +
+    const std::string form = c.case_file == "dambreak_general_3d.toml" ? "General" : c.case_file == "dambreak_stl_3d.toml" ? "Stl" : "";
+    const std::string name = "SphDamBreak" + form + "/" + (c.dimension == 2 ? "2D/" : "3D/") + c.dx_name + "/" +
                              (c.single ? "float/" : "double/") + policy_label(c.policy);
     benchmark::internal::Benchmark* b;
     if (c.dimension == 2)
