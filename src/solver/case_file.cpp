@@ -3,6 +3,7 @@
 // silently ignored setting.
 #include "unisph/solver/case_file.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <cstdint>
 #include <cmath>
@@ -473,13 +474,35 @@ void read_bodies(const Reader& r, const toml::table& root, CaseDescription& c) {
 // The general form: [domain], [[shape]], [[body]].
 void read_general_form(const Reader& r, const toml::table& root, CaseDescription& c) {
   const toml::table& domain = r.table(root, "domain", true);
-  r.only_keys(domain, "domain.", {"lower", "upper", "leaving"});
+  r.only_keys(domain, "domain.", {"lower", "upper", "leaving", "periodic"});
   c.domain.lower = r.vector(domain, "domain.", "lower", c.dimension, false);
   c.domain.upper = r.vector(domain, "domain.", "upper", c.dimension, false);
   for (int a = 0; a < c.dimension; ++a)
     if (!(c.domain.lower[std::size_t(a)] < c.domain.upper[std::size_t(a)]))
       r.fail(domain.get("upper"), "domain.upper", "must be above domain.lower along every axis (not along axis " + std::to_string(a) + ")");
   c.domain.leaving = r.choice(domain, "domain.", "leaving", {"remove", "stop"});
+  // domain.periodic = ["x", "y"]: the periodic axes (the solver checks the widths against the
+  // cutoff and the walls against the faces, with the run's dx).
+  if (const toml::node* node = domain.get("periodic")) {
+    c.domain.periodic_line = int(node->source().begin.line);
+    const toml::array* list = node->as_array();
+    if (!list)
+      r.fail(node, "domain.periodic", std::string("must be an array of axis names such as [\"x\", \"y\"] (it is a ") +
+                                           Reader::type_name(*node) + ")");
+    const std::string names = c.dimension == 3 ? "\"x\", \"y\" or \"z\"" : "\"x\" or \"y\"";
+    for (const toml::node& e : *list) {
+      const auto* name = e.as_string();
+      if (!name) r.fail(node, "domain.periodic", "entries must be axis names " + names + " (one is a " + Reader::type_name(e) + ")");
+      const std::string axis = name->get();
+      int a = -1;
+      for (int k = 0; k < c.dimension; ++k)
+        if (axis == std::string(1, "xyz"[k])) a = k;
+      if (a < 0) r.fail(node, "domain.periodic", "\"" + axis + "\" is not an axis of this " + std::to_string(c.dimension) + "D case (" + names + ")");
+      if (c.domain.is_periodic(a)) r.fail(node, "domain.periodic", "axis \"" + axis + "\" is named twice");
+      c.domain.periodic.push_back(a);
+    }
+    std::sort(c.domain.periodic.begin(), c.domain.periodic.end());
+  }
   read_shapes(r, root, c);
   read_bodies(r, root, c);
 }
@@ -556,7 +579,7 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
       r.fail(node, "fluid.continuity_dissipation", std::string("must be true or false (it is a ") + Reader::type_name(*node) + ")");
     c.continuity_dissipation = node->as_boolean()->get();
   }
-  c.free_surface_density = r.choice(fluid, "fluid.", "free_surface_density", {"reference", "carried"});
+  c.free_surface_density = r.choice(fluid, "fluid.", "free_surface_density", {"reference", "carried", "none"});
 
   // physics.gravity: |g| along -y (a number), or the vector g (D numbers, not all zero).
   const toml::table& physics = r.table(root, "physics", true);
@@ -566,7 +589,9 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
     double squared = 0;
     for (double g : c.gravity_vector) squared += g * g;
     c.gravity = std::sqrt(squared);
-    if (!(c.gravity > 0)) r.fail(physics.get("gravity"), "physics.gravity", "must not be the zero vector");
+    // Zero only in a periodic domain (a vortex, a channel driven otherwise): elsewhere a mistake.
+    if (!(c.gravity > 0) && c.domain.periodic.empty())
+      r.fail(physics.get("gravity"), "physics.gravity", "must not be the zero vector (it may be in a periodic domain, domain.periodic)");
   } else {
     c.gravity = r.positive(physics, "physics.", "gravity");
     c.gravity_vector.assign(std::size_t(c.dimension), 0.0);
@@ -578,6 +603,8 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
   c.hydrostatic = r.choice(initial, "initial.", "state", {"rest", "hydrostatic"}) == "hydrostatic";
   if (general) {
     // The level of the free surface along -g, for the hydrostatic start.
+    if (c.hydrostatic && !(c.gravity > 0))
+      r.fail(initial.get("state"), "initial.state", "a hydrostatic start needs gravity (physics.gravity is the zero vector)");
     if (c.hydrostatic) c.free_surface = r.number(initial, "initial.", "free_surface", nullptr);
     else if (initial.get("free_surface"))
       r.fail(initial.get("free_surface"), "initial.free_surface", "is read only with initial.state = \"hydrostatic\"");

@@ -50,6 +50,9 @@ void write_case(io::CheckpointWriter& out, const CaseDescription& c) {
   out.f64s(c.domain.lower);
   out.f64s(c.domain.upper);
   out.string(c.domain.leaving);
+  out.u64(c.domain.periodic.size());
+  for (int a : c.domain.periodic) out.u32(std::uint32_t(a));
+  out.u32(std::uint32_t(c.domain.periodic_line));
   out.u64(c.shapes.size());
   for (const ShapeDescription& s : c.shapes) {
     out.string(s.name);
@@ -127,6 +130,14 @@ CaseDescription read_case(io::CheckpointReader& in) {
   c.domain.lower = in.f64s();
   c.domain.upper = in.f64s();
   c.domain.leaving = in.string();
+  const std::uint64_t periodic = in.u64();
+  if (periodic > std::uint64_t(c.dimension)) in.fail("holds " + std::to_string(periodic) + " periodic axes (damaged case section)");
+  for (std::uint64_t k = 0; k < periodic; ++k) {
+    const std::uint32_t a = in.u32();
+    if (a >= std::uint32_t(c.dimension)) in.fail("holds periodic axis " + std::to_string(a) + " (damaged case section)");
+    c.domain.periodic.push_back(int(a));
+  }
+  c.domain.periodic_line = int(in.u32());
   const std::uint64_t shapes = in.u64();
   if (shapes > 100000) in.fail("holds " + std::to_string(shapes) + " shapes (damaged case section)");
   for (std::uint64_t k = 0; k < shapes; ++k) {
@@ -216,6 +227,10 @@ std::string physics_difference(const CaseDescription& a, const CaseDescription& 
   field("domain.lower", a.domain.lower, b.domain.lower);
   field("domain.upper", a.domain.upper, b.domain.upper);
   field("domain.leaving", a.domain.leaving, b.domain.leaving);
+  {
+    std::vector<double> x(a.domain.periodic.begin(), a.domain.periodic.end()), y(b.domain.periodic.begin(), b.domain.periodic.end());
+    field("domain.periodic (axes)", x, y);
+  }
   field("number of shapes", int(a.shapes.size()), int(b.shapes.size()));
   for (std::size_t k = 0; k < a.shapes.size() && k < b.shapes.size(); ++k) {
     const ShapeDescription &x = a.shapes[k], &y = b.shapes[k];

@@ -184,7 +184,7 @@ TEST(HostSphCaseFile, OneLineErrorsNameFileLineAndKey) {
       {replaced(valid_case, "density = 1000.0", "density = 1000.0\nfree_surface_density = 1"),
        "key 'fluid.free_surface_density': must be a string"},
       {replaced(valid_case, "density = 1000.0", "density = 1000.0\nfree_surface_density = \"max\""),
-       "key 'fluid.free_surface_density': must be \"reference\" or \"carried\" (it is \"max\")"},
+       "key 'fluid.free_surface_density': must be \"reference\", \"carried\" or \"none\" (it is \"max\")"},
       {replaced(valid_case, "end = 0.5", "end = 0.5\nneighbor_search = \"grid\""),
        "case.toml:17: key 'time.neighbor_search': must be \"automatic\", \"stored\" or \"direct\" (it is \"grid\")"},
       {replaced(valid_case, "end = 0.5", "end = 0.5\nlast_acoustic_step = \"whole\""),

@@ -11,6 +11,7 @@
 //  * the general form: named shapes ([[shape]]) and bodies made of them ([[body]]): any number of
 //    fluid bodies (one fluid) and of wall bodies, in a domain that need not be closed by walls,
 //    with gravity along any vector.
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -65,10 +66,31 @@ struct BodyDescription {
 // [domain]: the box particles live in. A fluid particle that leaves it is removed and counted
 // ("remove", the default of the general form) or stops the run with a diagnostic ("stop", the
 // short form's default).
+//
+// Periodic axes (domain.periodic = ["x", "y"]; general form only): a fluid particle that crosses
+// a periodic face comes back in through the opposite one (it is wrapped, never removed: `leaving`
+// applies to the other axes), and sees its neighbours across the face through ghost images
+// (neighbor/periodic_images.hpp; docs/sph.md, "Periodic axes"). A wall along a periodic axis
+// (a plate of a channel) must run through both periodic faces; it gets images too.
 struct DomainDescription {
   std::vector<double> lower, upper;  // D values each; empty: the tank's box with its walls
   std::string leaving = "stop";
+  std::vector<int> periodic;  // the periodic axes (0 = x, 1 = y, 2 = z), ascending; empty: none
+  int periodic_line = 0;      // of the `periodic` key in the case file, for messages
+
+  bool is_periodic(int axis) const {
+    for (int a : periodic)
+      if (a == axis) return true;
+    return false;
+  }
 };
+
+// C++ only (the case file cannot express it): the initial state of each fluid particle from its
+// position x (D values). `velocity` (D values) comes in as the body's velocity and `pressure` as
+// the hydrostatic or zero start; the function may change both. The density follows from the
+// pressure through the equation of state. Called once per fluid particle on the host when the
+// solver is made (not on a restore: the checkpoint holds the state), in the particles' order.
+using InitialFluidState = std::function<void(const std::vector<double>& x, std::vector<double>& velocity, double& pressure)>;
 
 struct CaseDescription {
   std::string name;
@@ -85,7 +107,8 @@ struct CaseDescription {
   double viscosity = 0;           // dynamic viscosity mu
   bool continuity_dissipation = false;  // Riemann velocity dissipation in the continuity equation
   // Density summation where the kernel sum falls short (density_summation.hpp): "reference"
-  // (max(rho_sum, rho0)) or "carried" (the shortfall from the carried density added back).
+  // (max(rho_sum, rho0)) or "carried" (the shortfall from the carried density added back), or
+  // "none" (rho_sum as it is: a flow without free surface, such as a periodic box).
   std::string free_surface_density = "reference";
   // [physics]
   double gravity = 0;                  // |g|
@@ -96,6 +119,8 @@ struct CaseDescription {
   std::vector<ShapeDescription> shapes;
   std::vector<BodyDescription> bodies;
   // [initial]
+  // C++ only: a per-particle initial velocity and pressure (above); not stored in checkpoints.
+  InitialFluidState initial_fluid_state;
   bool hydrostatic = false;  // start from the hydrostatic pressure and density
   // The free surface's level for the hydrostatic start, measured along -g (the height, for
   // gravity along -y); the short form takes the column's height.

@@ -1,6 +1,6 @@
 #pragma once
 // The layout of a solver checkpoint inside the checkpoint container (io/checkpoint_file.hpp),
-// format version 6:
+// format version 7:
 //
 //   "run"        dimension (u32), bytes of the floating type (u32), "float" or "double"
 //   "case"       every field of the CaseDescription (obstacles: resolved file, translation, line)
@@ -25,8 +25,10 @@ namespace unisph::sph {
 
 // 2: time.cells_per_cutoff; 3: obstacles; 4: initial.settling_*; 5: time.last_acoustic_step and fluid.free_surface_density;
 // 6: the general form (gravity vector, free surface, domain, shapes, bodies) and fluid removed from the domain
+// 7: domain.periodic (the axes, u64 count then u32 each, and the key's line); the images of periodic
+// axes are not stored (the sets' owned particles only), a restore rebuilds them
 // (older versions are refused with one line).
-inline constexpr std::uint32_t solver_checkpoint_version = 6;
+inline constexpr std::uint32_t solver_checkpoint_version = 7;
 
 void write_case(io::CheckpointWriter& out, const CaseDescription& c);
 CaseDescription read_case(io::CheckpointReader& in);

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <set>
 #include <sstream>
 
 #include "unisph/exec/algorithms.hpp"
@@ -12,9 +13,11 @@
 #include "unisph/neighbor/contact_relation.hpp"
 #include "unisph/neighbor/inner_relation.hpp"
 #include "unisph/neighbor/pair_counts.hpp"
+#include "unisph/neighbor/periodic_images.hpp"
 #include "unisph/neighbor/particle_sorter.hpp"
 #include "unisph/sph/density_relaxation.hpp"
 #include "unisph/sph/density_summation.hpp"
+#include "unisph/sph/image_records.hpp"
 #include "unisph/sph/neighbor_records.hpp"
 #include "unisph/sph/fused_updates.hpp"
 #include "unisph/sph/observers.hpp"
@@ -86,7 +89,113 @@ struct WeaklyCompressibleSolver<T, D>::State {
     } else if (int(c.tank.size()) != D || int(c.column.size()) != D) {
       throw Error("case '" + c.name + "': tank and column need " + std::to_string(D) + " sizes");
     }
+    if (!c.domain.periodic.empty()) {
+      if (!c.general()) throw Error("case '" + c.name + "': periodic axes need the general form ([domain], [[body]])");
+      const double cutoff = double(WendlandC2Kernel<T, D>::from_spacing(T(c.dx)).cutoff());
+      for (int a : c.domain.periodic) {
+        if (a < 0 || a >= D) throw Error("case '" + c.name + "': periodic axis " + std::to_string(a) + " in a " + std::to_string(D) + "D case");
+        const double length = c.domain.upper[std::size_t(a)] - c.domain.lower[std::size_t(a)];
+        if (!(length >= 2 * cutoff))
+          throw CaseFileError(periodic_where(c) + "the domain is " + format(length) + " wide along periodic axis " +
+                              axis_name(a) + ", narrower than two cutoffs (2 x 2.6 dx = " + format(2 * cutoff) +
+                              "): ghost images would be wider than the domain");
+        // The lattice must close on itself across the faces: a length of whole spacings.
+        const double cells = length / c.dx;
+        if (!(std::abs(cells - std::round(cells)) <= 1e-6 * cells))
+          throw CaseFileError(periodic_where(c) + "the domain's length along periodic axis " + axis_name(a) + " (" +
+                              format(length) + ") is not a whole number of particle spacings dx = " + format(c.dx) +
+                              " (" + format(cells) + "): the lattice would not join across the faces");
+      }
+    }
     return c;
+  }
+  static const char* axis_name(int a) { return a == 0 ? "x" : a == 1 ? "y" : "z"; }
+  static std::string format(double v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
+  }
+  static std::string periodic_where(const CaseDescription& c) {
+    return c.source + ":" + std::to_string(c.domain.periodic_line) + ": key 'domain.periodic': ";
+  }
+  // Ghost images of a body along the case's periodic axes; none (no object, no launch) without.
+  static std::unique_ptr<PeriodicImages<T, D>> images_of(const CaseDescription& c, Body<T, D>& body, const Box<T, D>& domain,
+                                                         T cutoff) {
+    if (c.domain.periodic.empty()) return nullptr;
+    std::array<bool, D> periodic{};
+    for (int a : c.domain.periodic) periodic[std::size_t(a)] = true;
+    return std::make_unique<PeriodicImages<T, D>>(body.particles(), body.positions(), domain, periodic, cutoff);
+  }
+  // A wall particle within the cutoff of a periodic face whose normal points along that axis
+  // belongs to a wall across the axis (a side wall at the face, a plate that ends there): the
+  // fluid would cross the face into it. A wall along a periodic axis (a channel's plate) runs
+  // through both faces, its normals across the axis: it is given images like the fluid.
+  static void check_walls_along_periodic_axes(const CaseDescription& c, const TankParticles<T, D>& p, const Box<T, D>& domain,
+                                              const std::vector<WallBodyCount>& groups, double cutoff) {
+    if (c.domain.periodic.empty()) return;
+    std::size_t group = 0, end = groups.empty() ? 0 : std::size_t(groups[0].count);
+    for (std::size_t k = 0; k < p.wall.size(); ++k) {
+      while (k >= end && group + 1 < groups.size()) end += std::size_t(groups[++group].count);
+      for (int a : c.domain.periodic) {
+        const double x = double(p.wall[k][a]);
+        const bool near_lower = x - double(domain.lower[a]) < cutoff, near_upper = double(domain.upper[a]) - x < cutoff;
+        if (!near_lower && !near_upper) continue;
+        if (std::abs(double(p.wall_normal[k][a])) <= 0.01) continue;
+        std::ostringstream s;
+        s << "wall body '" << (groups.empty() ? std::string("wall") : groups[group].name) << "' lies across periodic axis "
+          << axis_name(a) << ": its particle at (";
+        for (int b = 0; b < D; ++b) s << (b ? ", " : "") << double(p.wall[k][b]);
+        s << "), within the cutoff of the face " << axis_name(a) << " = " << double(near_lower ? domain.lower[a] : domain.upper[a])
+          << ", faces along " << axis_name(a) << " (normal " << axis_name(a) << " component " << double(p.wall_normal[k][a])
+          << "); a wall along a periodic axis must run through both faces (make its shape reach beyond the domain)";
+        throw CaseFileError(periodic_where(c) + s.str());
+      }
+    }
+    // A wall must continue through the faces: each lattice particle of a wall in the first layer
+    // at a periodic face has a wall particle beside it across the face (one dx on, wrapped by
+    // L). A plate that ends at the face (its normals there turned towards the fluid) fails.
+    // Particles off the lattice (x = (i + 1/2) dx: [[obstacle]] files) are not checked.
+    using Key = std::array<long long, D>;
+    const auto key_of = [&](const Vec<T, D>& x, Key& k) {
+      for (int a = 0; a < D; ++a) {
+        const double q = double(x[a]) / c.dx - 0.5;
+        k[std::size_t(a)] = std::llround(q);
+        if (std::abs(q - double(k[std::size_t(a)])) > 1e-3) return false;
+      }
+      return true;
+    };
+    std::set<Key> lattice;
+    Key k{};
+    for (const Vec<T, D>& x : p.wall)
+      if (key_of(x, k)) lattice.insert(k);
+    group = 0, end = groups.empty() ? 0 : std::size_t(groups[0].count);
+    for (std::size_t w = 0; w < p.wall.size(); ++w) {
+      while (w >= end && group + 1 < groups.size()) end += std::size_t(groups[++group].count);
+      if (!key_of(p.wall[w], k)) continue;
+      for (int a : c.domain.periodic) {
+        const double x = double(p.wall[w][a]);
+        const long long cells = std::llround((double(domain.upper[a]) - double(domain.lower[a])) / c.dx);
+        long long step = 0;
+        if (x - double(domain.lower[a]) < c.dx) step = cells - 1;         // across the lower face
+        else if (double(domain.upper[a]) - x < c.dx) step = 1 - cells;    // across the upper face
+        if (step == 0) continue;
+        Key across = k;
+        across[std::size_t(a)] += step;
+        if (lattice.count(across)) continue;
+        std::ostringstream s;
+        s << "wall body '" << (groups.empty() ? std::string("wall") : groups[group].name) << "' lies across periodic axis "
+          << axis_name(a) << ": it ends at the face " << axis_name(a) << " = "
+          << double(step > 0 ? domain.lower[a] : domain.upper[a]) << " (its particle at (";
+        for (int b = 0; b < D; ++b) s << (b ? ", " : "") << double(p.wall[w][b]);
+        s << ") has no wall beside it across the face); a wall along a periodic axis must run through both faces (make "
+             "its shape reach beyond the domain)";
+        throw CaseFileError(periodic_where(c) + s.str());
+      }
+    }
+  }
+  // The cell lists' box: the domain, or images->search_box() (the images lie beyond the faces).
+  static Box<T, D> search_box_of(const std::unique_ptr<PeriodicImages<T, D>>& images, const Box<T, D>& domain) {
+    return images ? images->search_box() : domain;
   }
   static TankParticles<T, D> particles_of(const CaseDescription& c, PolicyKind kind) {
     TankParticles<T, D> p;
@@ -119,7 +228,24 @@ struct WeaklyCompressibleSolver<T, D>::State {
   static WallFreeBox<T, D> wall_free_of(const CaseDescription& c, const TankParticles<T, D>& p, const Box<T, D>& domain,
                                         double cutoff) {
     if (!c.general()) return WallFreeBox<T, D>::of_tank(c.tank, p.wall, cutoff);
-    return WallFreeBox<T, D>::around(p.wall, domain.lower, domain.upper, cutoff);
+    if (c.domain.periodic.empty()) return WallFreeBox<T, D>::around(p.wall, domain.lower, domain.upper, cutoff);
+    // Periodic axes: the wall particles and their images (+-L where within 1.1 cutoffs of a
+    // face), in a start box reaching 2 cutoffs beyond the periodic faces (fluid drifts a little
+    // past a face between wraps).
+    std::vector<Vec<T, D>> walls = p.wall;
+    Vec<T, D> lower = domain.lower, upper = domain.upper;
+    for (int a : c.domain.periodic) {
+      const T length = domain.upper[a] - domain.lower[a];
+      lower[a] -= T(2 * cutoff);
+      upper[a] += T(2 * cutoff);
+      const std::size_t n = walls.size();
+      for (std::size_t k = 0; k < n; ++k) {
+        Vec<T, D> w = walls[k];
+        if (double(w[a] - domain.lower[a]) < 1.1 * cutoff) w[a] += length, walls.push_back(w);
+        else if (double(domain.upper[a] - w[a]) < 1.1 * cutoff) w[a] -= length, walls.push_back(w);
+      }
+    }
+    return WallFreeBox<T, D>::around(walls, lower, upper, cutoff);
   }
 
   State(const CaseDescription& c, PolicyKind kind, bool settle_now)
@@ -135,8 +261,11 @@ struct WeaklyCompressibleSolver<T, D>::State {
         wall_body("Wall", domain, particles.wall.size()),
         fluid(fluid_body),
         wall(wall_body),
-        fluid_cells(fluid.position, domain, kernel.cutoff(), OutsideParticles::clamp, cell_size_of(c, kind, kernel.cutoff())),
-        wall_cells(wall.position, domain, kernel.cutoff(), OutsideParticles::clamp, cell_size_of(c, kind, kernel.cutoff())),
+        fluid_images(images_of(c, fluid_body, domain, kernel.cutoff())),
+        wall_images(images_of(c, wall_body, domain, kernel.cutoff())),
+        search_box(search_box_of(fluid_images, domain)),
+        fluid_cells(fluid.position, search_box, kernel.cutoff(), OutsideParticles::clamp, cell_size_of(c, kind, kernel.cutoff())),
+        wall_cells(wall.position, search_box, kernel.cutoff(), OutsideParticles::clamp, cell_size_of(c, kind, kernel.cutoff())),
         inner(fluid_cells, search_method_of(c)),
         contact(fluid.position, wall_cells, search_method_of(c)),
         fluid_sorter(fluid_body.particles(), fluid.position, fluid_cells.grid(), 1, SortOrder::cell_index),
@@ -145,7 +274,10 @@ struct WeaklyCompressibleSolver<T, D>::State {
         riemann(AcousticRiemannSolver<T>::make(T(c.density), T(c.sound_speed))),
         wall_volume(volume_of(c.dx)),
         criteria{double(kernel.h), c.reference_velocity, c.sound_speed, c.viscosity / c.density},
-        density_summation(fluid, inner, contact, kernel, T(c.dx), T(c.density), c.free_surface_density == "carried"),
+        density_summation(fluid, inner, contact, kernel, T(c.dx), T(c.density),
+                          c.free_surface_density == "carried" ? SurfaceDensity::carried
+                          : c.free_surface_density == "none" ? SurfaceDensity::none
+                                                             : SurfaceDensity::reference),
         prior_acceleration(fluid, inner, contact, kernel, gravity_of(c), T(c.viscosity), wall_volume),
         pressure_start(fluid, eos),
         wall_free(wall_free_of(c, particles, domain, double(kernel.cutoff()))),
@@ -169,6 +301,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
       for (int a = 0; a < D; ++a) x[a] = T(p.position[a]);
       probes.push_back(std::make_unique<PressureProbe<T, D>>(fluid, kernel, x));
     }
+    check_walls_along_periodic_axes(c, particles, domain, wall_groups, double(kernel.cutoff()));
     initialise();
     if (settle_now) settle();
   }
@@ -216,11 +349,20 @@ struct WeaklyCompressibleSolver<T, D>::State {
         for (int a = 0; a < D; ++a) along -= double(g[a]) * double(p[a]);
         return along / description.gravity;
       };
+      std::vector<double> point(D), velocity(D);
       for (Index i = 0; i < n; ++i) {
         x[i] = particles.fluid[i];
         v[i] = particles.fluid_velocity.empty() ? Vector{} : particles.fluid_velocity[i];
-        const double pressure =
+        double pressure =
             description.hydrostatic ? description.density * description.gravity * (surface - level(x[i])) : 0.0;
+        if (description.initial_fluid_state) {
+          for (int a = 0; a < D; ++a) point[std::size_t(a)] = double(x[i][a]), velocity[std::size_t(a)] = double(v[i][a]);
+          description.initial_fluid_state(point, velocity, pressure);
+          if (velocity.size() != std::size_t(D))
+            throw Error("case '" + description.name + "': initial_fluid_state gave " + std::to_string(velocity.size()) +
+                        " velocity components; the case is " + std::to_string(D) + "D");
+          for (int a = 0; a < D; ++a) v[i][a] = T(velocity[std::size_t(a)]);
+        }
         p[i] = T(pressure);
         rho[i] = eos.density(T(pressure));
         m[i] = rho[i] * wall_volume;
@@ -238,14 +380,51 @@ struct WeaklyCompressibleSolver<T, D>::State {
     particles = {};
     visit_policy(policy, [&](auto p) {
       wall_sorter.sort(p);
-      wall_cells.build(p);
+      build_wall(p);
       fluid_sorter.sort(p);
       rebuild(p);
     });
   }
 
+  // The wall's cell list, after its images where an axis is periodic (the wall does not move:
+  // once, and after a restore).
+  template <class P>
+  void build_wall(P p) {
+    if (wall_images) {
+      wall_images->build(p);
+      wall_images->refresh(p, wall.normal);
+    }
+    wall_cells.build(p);
+  }
+
+  // Before a relaxation pass (periodic axes only): the images' positions and neighbour records
+  // from their sources' current ones.
+  template <class P>
+  void refresh_image_records(P p) {
+    PeriodicImages<T, D>& images = *fluid_images;
+    if (images.ghost_count() == 0) return;
+    RefreshImageRecords<T, D> k{images.sources().read(p),
+                                images.codes().read(p),
+                                fluid.position.read_write(p),
+                                fluid.neighbor_position_volume.read_write(p),
+                                fluid.neighbor_velocity_pressure.read_write(p),
+                                {},
+                                fluid.size()};
+    for (unsigned code = 0; code < image_code_count<D>; ++code) k.shift[code] = images.shift(code);
+    particle_for(p, images.ghost_count(), k);
+  }
+
   template <class P>
   void rebuild(P p) {
+    if (fluid_images) {
+      // Owned particles wrapped into the box (the caller wraps before a sort), their images
+      // made, and what the first pass of the next step reads at them (density summation: mass,
+      // positions; prior acceleration: velocity, and density after the summation).
+      fluid_images->build(p);
+      fluid_images->refresh(p, fluid.mass, fluid.velocity);
+      inner.set_source_count(fluid.size());
+      contact.set_source_count(fluid.size());
+    }
     fluid_cells.build(p);
     // With stored lists, dW/dr of each pair is cached with its geometry (the relaxations read it).
     inner.update(p, PairKernelDerivative<T, D>{kernel});
@@ -267,6 +446,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
   template <class P>
   void remove_leaving(P p) {
     ParticleSet& set = fluid_body.particles();
+    if (set.ghost_count() != 0) set.set_ghost_count(0);  // images are rebuilt after the removal
     const Index n = set.owned_count();
     std::vector<std::uint32_t> order;
     order.reserve(n);
@@ -301,7 +481,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
     View<const T> rho = fluid.density.read(MemorySpace::host);
     View<const T> pr = fluid.pressure.read(MemorySpace::host);
     View<const std::uint64_t> id = fluid_body.particles().ids().read(MemorySpace::host);
-    for (Index i = 0; i < x.size(); ++i) {
+    for (Index i = 0; i < fluid.size(); ++i) {  // owned particles (images are copies)
       // In the order an acoustic step computes them (density -> pressure -> velocity ->
       // position), so the variable named is the first that went wrong in this particle.
       const char* variable = nullptr;
@@ -356,6 +536,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
       }
       std::uint64_t steps_here = 0;
       density_summation.exec(p);
+      if (fluid_images) fluid_images->refresh(p, fluid.density);  // prior acceleration reads rho_j
       prior_acceleration.exec(p);
       // Each acoustic step: pressure start (rho, p, x), pressure relaxation (a), velocity
       // update (v, x) with the largest speed, density relaxation (drho/dt), density update
@@ -388,9 +569,11 @@ struct WeaklyCompressibleSolver<T, D>::State {
       last_acoustic_dt = dt;
       pressure_start.exec(p, Real(dt));
       for (;;) {
+        if (fluid_images) refresh_image_records(p);
         pressure_relaxation.exec(p, Real(dt));
         speed = double(velocity_update_and_max_speed.exec(p, Real(dt)));
         if (damping_rate > 0) velocity_damping.exec(p, Real(std::exp(-damping_rate * dt)));
+        if (fluid_images) refresh_image_records(p);
         density_relaxation.exec(p, Real(dt));
         relaxed += dt;
         ++acoustic_steps;
@@ -408,6 +591,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
       }
       time += relaxed;
       ++advection_steps;
+      if (fluid_images) fluid_images->wrap(p);  // before the sort: its cells are the box's
       if (advection_steps % std::uint64_t(description.sort_every) == 0) fluid_sorter.sort(p);
       rebuild(p);
     });
@@ -535,6 +719,10 @@ struct WeaklyCompressibleSolver<T, D>::State {
     std::string run_state = in.string();
     if (!in.at_end()) in.fail("has unread bytes after its last section");
 
+    // Images are not stored: the sets lose theirs (shrink_owned needs a set without ghosts) and
+    // rebuild them below.
+    for (Body<T, D>* body : {&fluid_body, &wall_body})
+      if (body->particles().ghost_count() != 0) body->particles().set_ghost_count(0);
     commit(fluid_body, staged_fluid);
     commit(wall_body, staged_wall);
     time = saved_time;
@@ -545,7 +733,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
     last_acoustic_dt = 0;
     // As at the end of an advection step: neighbour structures from the restored order.
     visit_policy(policy, [&](auto p) {
-      wall_cells.build(p);
+      build_wall(p);
       rebuild(p);
     });
     return run_state;
@@ -580,6 +768,8 @@ struct WeaklyCompressibleSolver<T, D>::State {
       s.kinetic_energy = double(e[0]);
       s.potential_energy = double(e[1]);
       s.mass = double(total_mass.exec(p));
+      // A probe near a periodic face reads the images across it.
+      if (fluid_images && !probes.empty()) fluid_images->refresh(p, fluid.pressure, fluid.density, fluid.mass);
       for (auto& probe : probes) s.probe_pressure.push_back(double(probe->exec(p)));
     });
     return s;
@@ -597,6 +787,10 @@ struct WeaklyCompressibleSolver<T, D>::State {
   Body<T, D> wall_body;
   FluidVariables<T, D> fluid;
   WallVariables<T, D> wall;
+  // Ghost images along periodic axes (case domain.periodic); null where no axis is periodic.
+  std::unique_ptr<PeriodicImages<T, D>> fluid_images;
+  std::unique_ptr<PeriodicImages<T, D>> wall_images;
+  Box<T, D> search_box;  // of the cell lists: the domain, or beyond its periodic faces
   CellLinkedList<T, D> fluid_cells;
   CellLinkedList<T, D> wall_cells;
   InnerRelation<T, D> inner;

@@ -13,7 +13,9 @@
 //   "carried":   rho_i <- rho_sum + max(0, rho_n - rho_sum) rho0 / rho_n, rho_n the density the
 //                continuity equation carried: where the sum falls short of it, the shortfall is
 //                added back (scaled by rho0 / rho_n); SPHinXsys' earlier form, with which its
-//                regression records of the 2D dam break were made (docs/validation.md).
+//                regression records of the 2D dam break were made (docs/validation.md);
+//   "none":      rho_i <- rho_sum: no correction, for a flow without free surface (a periodic
+//                box such as the Taylor-Green vortex), where the density may fall below rho0.
 // Where the sum is the larger, it replaces the carried density, so the continuity equation's
 // drift does not accumulate over advection steps.
 #include <type_traits>
@@ -26,13 +28,16 @@
 
 namespace unisph::sph {
 
+// fluid.free_surface_density (above).
+enum class SurfaceDensity { reference, carried, none };
+
 template <class T, int D>
 class DensitySummationFreeSurface : public InteractionDynamics<DensitySummationFreeSurface<T, D>> {
  public:
   DensitySummationFreeSurface(FluidVariables<T, D>& fluid, InnerRelation<T, D>& inner, ContactRelation<T, D>& wall,
-                              WendlandC2Kernel<T, D> kernel, T dx, T reference_density, bool add_back_shortfall)
+                              WendlandC2Kernel<T, D> kernel, T dx, T reference_density, SurfaceDensity mode)
       : fluid_(fluid), inner_(inner), wall_(wall), kernel_(kernel), reference_density_(reference_density),
-        add_back_shortfall_(add_back_shortfall) {
+        add_back_shortfall_(mode == SurfaceDensity::carried), uncorrected_(mode == SurfaceDensity::none) {
     T volume = T(1);
     for (int a = 0; a < D; ++a) volume *= dx;
     inverse_reference_sum_ = T(1) / (volume * kernel.lattice_sum(dx));
@@ -48,6 +53,7 @@ class DensitySummationFreeSurface : public InteractionDynamics<DensitySummationF
     WendlandC2Kernel<T, D> kernel;
     T self_weight, inverse_reference_sum, reference_density;
     bool add_back_shortfall;  // "carried" (above)
+    bool uncorrected;         // "none"
 
     UNISPH_HOST_DEVICE void interaction(Index i, Real) const {
       T sum = mass[i] * self_weight;
@@ -56,7 +62,9 @@ class DensitySummationFreeSurface : public InteractionDynamics<DensitySummationF
       wall.for_each_neighbor(i, [&](Index, const NeighborPair<T, D>& p) { wall_sum += kernel.value(p.distance()); });
       sum += mass[i] * wall_sum;  // the wall's volume is dx^D, as V_i0
       const T summed = sum * inverse_reference_sum;
-      if (add_back_shortfall) {
+      if (uncorrected) {
+        density[i] = summed;
+      } else if (add_back_shortfall) {
         const T carried = density[i];
         const T shortfall = carried - summed;
         density[i] = shortfall > T(0) ? summed + shortfall * (reference_density / carried) : summed;
@@ -70,7 +78,7 @@ class DensitySummationFreeSurface : public InteractionDynamics<DensitySummationF
   Kernel make_kernel(KernelContext& context) {
     return {inner_.search(context), wall_.search(context), context.read(fluid_.mass),
             context.read_write(fluid_.density), kernel_, self_weight_, inverse_reference_sum_, reference_density_,
-            add_back_shortfall_};
+            add_back_shortfall_, uncorrected_};
   }
   Index size() const { return fluid_.size(); }
 
@@ -81,6 +89,7 @@ class DensitySummationFreeSurface : public InteractionDynamics<DensitySummationF
   WendlandC2Kernel<T, D> kernel_;
   T reference_density_;
   bool add_back_shortfall_;
+  bool uncorrected_;
   T inverse_reference_sum_ = T(1);
   T self_weight_ = T(0);
 };

@@ -22,6 +22,7 @@ struct alignas(16) VelocityPressure {
 template <class T, int D>
 struct FluidVariables {
   using Vector = Vec<T, D>;
+  ParticleSet& particles;  // declared first: initialised first
   DiscreteVariable<Vector>& position;
   DiscreteVariable<Vector>& velocity;
   DiscreteVariable<Vector>& acceleration;        // from pressure, per acoustic step
@@ -36,7 +37,8 @@ struct FluidVariables {
   DiscreteVariable<VelocityPressure<T, D>>& neighbor_velocity_pressure;
 
   explicit FluidVariables(Body<T, D>& body)
-      : position(body.positions()),
+      : particles(body.particles()),
+        position(body.positions()),
         velocity(body.particles().template add_variable<Vector>("Velocity", sortable_output_variable)),
         acceleration(body.particles().template add_variable<Vector>("Acceleration", sortable_variable)),
         prior_acceleration(body.particles().template add_variable<Vector>("PriorAcceleration", sortable_variable)),
@@ -49,21 +51,27 @@ struct FluidVariables {
         neighbor_velocity_pressure(
             body.particles().template add_variable<VelocityPressure<T, D>>("NeighborVelocityPressure")) {}
 
-  Index size() const { return position.size(); }
+  // The owned particles: every update, interaction and reduction runs over these. Ghosts (the
+  // images of a periodic axis, neighbor/periodic_images.hpp) follow them, read as neighbours only.
+  Index size() const { return particles.owned_count(); }
+  // Owned particles and ghosts.
+  Index total_size() const { return position.size(); }
 };
 
 // A static wall of dummy particles: positions and unit normals pointing into the fluid.
 template <class T, int D>
 struct WallVariables {
   using Vector = Vec<T, D>;
+  ParticleSet& particles;
   DiscreteVariable<Vector>& position;
   DiscreteVariable<Vector>& normal;
 
   explicit WallVariables(Body<T, D>& body)
-      : position(body.positions()),
+      : particles(body.particles()),
+        position(body.positions()),
         normal(body.particles().template add_variable<Vector>("Normal", sortable_output_variable)) {}
 
-  Index size() const { return position.size(); }
+  Index size() const { return particles.owned_count(); }  // without the images of periodic axes
 };
 
 }  // namespace unisph::sph

@@ -37,7 +37,9 @@ class PressureProbe : public ReduceDynamics<PressureProbe<T, D>, Sum<Vec<T, 2>>>
     return {c.read(fluid_.position), c.read(fluid_.pressure), c.read(fluid_.density), c.read(fluid_.mass), kernel_,
             point_};
   }
-  Index size() const { return fluid_.size(); }
+  // Owned particles and ghosts: a probe near a periodic face sees the images across it (their
+  // pressure, density and mass refreshed by the caller).
+  Index size() const { return fluid_.total_size(); }
   // No fluid particle near the probe: the pressure there is zero (a free surface).
   T finish(Vec<T, 2> sums) const { return sums[1] > T(0) ? sums[0] / sums[1] : T(0); }
 
