@@ -183,20 +183,27 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
     std::snprintf(suffix, sizeof suffix, "_%06d.vtp", run.snapshot++);
     auto& fluid = solver.fluid_body().particles();
     std::vector<io::PointArray> arrays;
-    arrays.push_back(io::PointArray::from("ParticleId", 1, fluid.ids().to_vector()));
-    arrays.push_back(vector_array<T, D>("Velocity", fluid.template variable<Vec<T, D>>("Velocity").to_vector()));
-    arrays.push_back(io::PointArray::from("Density", 1, fluid.template variable<T>("Density").to_vector()));
-    arrays.push_back(io::PointArray::from("Pressure", 1, fluid.template variable<T>("Pressure").to_vector()));
+    // Owned particles only: a periodic case's images (ghosts after them) are copies.
+    const auto owned = [](auto values, Index count) {
+      values.resize(count);
+      return values;
+    };
+    const Index fluid_count = fluid.owned_count();
+    arrays.push_back(io::PointArray::from("ParticleId", 1, owned(fluid.ids().to_vector(), fluid_count)));
+    arrays.push_back(vector_array<T, D>("Velocity", owned(fluid.template variable<Vec<T, D>>("Velocity").to_vector(), fluid_count)));
+    arrays.push_back(io::PointArray::from("Density", 1, owned(fluid.template variable<T>("Density").to_vector(), fluid_count)));
+    arrays.push_back(io::PointArray::from("Pressure", 1, owned(fluid.template variable<T>("Pressure").to_vector(), fluid_count)));
     const std::string fluid_file = solver.fluid_body().name() + suffix;
-    io::write_vtp(dir / fluid_file, as_points<T, D>(solver.fluid_body().positions().to_vector()), arrays);
+    io::write_vtp(dir / fluid_file, as_points<T, D>(owned(solver.fluid_body().positions().to_vector(), fluid_count)), arrays);
     run.collection.push_back({solver.time(), 0, fluid_file});
     // Each wall body to a series of its own (its name, then the snapshot's number): a wall
     // particle's body follows from its id (the first body's ids come first, then the second's...).
     auto& wall = solver.wall_body().particles();
     const std::vector<sph::WallBodyCount>& bodies = solver.wall_bodies();
-    const std::vector<std::uint64_t> ids = wall.ids().to_vector();
-    const std::vector<Vec<T, D>> positions = solver.wall_body().positions().to_vector();
-    const std::vector<Vec<T, D>> normals = wall.template variable<Vec<T, D>>("Normal").to_vector();
+    const Index wall_count = wall.owned_count();
+    const std::vector<std::uint64_t> ids = owned(wall.ids().to_vector(), wall_count);
+    const std::vector<Vec<T, D>> positions = owned(solver.wall_body().positions().to_vector(), wall_count);
+    const std::vector<Vec<T, D>> normals = owned(wall.template variable<Vec<T, D>>("Normal").to_vector(), wall_count);
     std::vector<std::uint64_t> first(bodies.size() + 1, wall.first_id());
     for (std::size_t k = 0; k < bodies.size(); ++k) first[k + 1] = first[k] + bodies[k].count;
     for (std::size_t k = 0; k < bodies.size(); ++k) {
