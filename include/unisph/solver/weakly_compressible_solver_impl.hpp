@@ -4,10 +4,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <set>
 #include <sstream>
 
 #include "unisph/exec/algorithms.hpp"
+#include "unisph/exec/backend/cuda/release_scratch.hpp"
 #include "unisph/io/checkpoint_file.hpp"
 #include "unisph/neighbor/cell_linked_list.hpp"
 #include "unisph/neighbor/contact_relation.hpp"
@@ -201,6 +203,8 @@ struct WeaklyCompressibleSolver<T, D>::State {
     TankParticles<T, D> p;
     if (c.general()) {
       p = visit_policy(kind, [&](auto policy) { return make_body_particles<T, D>(policy, c); });
+      // The lattice over the whole domain took scratch storage the run never needs again.
+      if (kind == PolicyKind::device) cuda::release_scratch();
     } else {
       p = make_tank_particles<T, D>(c.tank, c.column, c.dx);
     }
@@ -223,12 +227,28 @@ struct WeaklyCompressibleSolver<T, D>::State {
     }
     return groups;
   }
+  // The fluid particle nearest the fluid's centroid: a point of the water.
+  static Vector seed_of(const TankParticles<T, D>& p) {
+    if (p.fluid.empty()) return Vector{};
+    Vec<double, D> centroid{};
+    for (const Vector& x : p.fluid)
+      for (int a = 0; a < D; ++a) centroid[a] += double(x[a]) / double(p.fluid.size());
+    Vector seed = p.fluid.front();
+    double nearest = std::numeric_limits<double>::max();
+    for (const Vector& x : p.fluid) {
+      double d = 0;
+      for (int a = 0; a < D; ++a) d += (double(x[a]) - centroid[a]) * (double(x[a]) - centroid[a]);
+      if (d < nearest) nearest = d, seed = x;
+    }
+    return seed;
+  }
   // The short form keeps the tank's own box (tank_particles.hpp); the general form cuts the
-  // domain down around every wall particle.
+  // domain down around the water, wall particle by wall particle (WallFreeBox::around).
   static WallFreeBox<T, D> wall_free_of(const CaseDescription& c, const TankParticles<T, D>& p, const Box<T, D>& domain,
                                         double cutoff) {
     if (!c.general()) return WallFreeBox<T, D>::of_tank(c.tank, p.wall, cutoff);
-    if (c.domain.periodic.empty()) return WallFreeBox<T, D>::around(p.wall, domain.lower, domain.upper, cutoff);
+    const Vector seed = seed_of(p);
+    if (c.domain.periodic.empty()) return WallFreeBox<T, D>::around(p.wall, domain.lower, domain.upper, seed, cutoff);
     // Periodic axes: the wall particles and their images (+-L where within 1.1 cutoffs of a
     // face), in a start box reaching 2 cutoffs beyond the periodic faces (fluid drifts a little
     // past a face between wraps).
@@ -245,7 +265,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
         else if (double(domain.upper[a] - w[a]) < 1.1 * cutoff) w[a] -= length, walls.push_back(w);
       }
     }
-    return WallFreeBox<T, D>::around(walls, lower, upper, cutoff);
+    return WallFreeBox<T, D>::around(walls, lower, upper, seed, cutoff);
   }
 
   State(const CaseDescription& c, PolicyKind kind, bool settle_now)

@@ -9,8 +9,10 @@
 // with m the cutoff and a 1 % margin that covers the rounding of the pair test; it is checked
 // against the wall particles and left empty if one lies inside (0, tank).
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "unisph/core/config.hpp"
@@ -38,38 +40,35 @@ struct WallFreeBox {
     return box;
   }
 
-  // For any walls: the box `start` (a domain) cut down, wall particle by wall particle, so that
-  // none lies within the margin of it; each cut moves the one face that keeps the most volume.
-  // A tank's walls give nearly of_tank's box; walls inside the domain give a smaller box (or an
-  // empty one). The result depends on the order of `wall`, which is fixed at set-up.
+  // For any walls: the box `start` (a domain) cut down around `seed` (a point of the water) so
+  // that no wall particle lies within the margin of it. The wall particles are taken nearest the
+  // seed first, and each one still near the box moves the face that separates it from the seed
+  // along the axis where it lies farthest from the seed: a tank's floor cuts the bottom face, its
+  // side walls the side faces, giving the tank's inside less the margin (of_tank's box); walls in
+  // the water give a smaller box; a wall particle within the margin of the seed an empty one.
   static WallFreeBox around(const std::vector<Vec<T, D>>& wall, const Vec<T, D>& start_lower, const Vec<T, D>& start_upper,
-                            double cutoff) {
+                            const Vec<T, D>& seed, double cutoff) {
     const double margin = 1.01 * cutoff;
     double lo[D], hi[D];
     for (int a = 0; a < D; ++a) lo[a] = double(start_lower[a]) + margin, hi[a] = double(start_upper[a]) - margin;
-    const auto volume = [&](const double* l, const double* h) {
-      double v = 1;
-      for (int a = 0; a < D; ++a) v *= std::max(0.0, h[a] - l[a]);
-      return v;
-    };
-    for (const Vec<T, D>& w : wall) {
+    std::vector<std::pair<double, std::size_t>> order(wall.size());
+    for (std::size_t k = 0; k < wall.size(); ++k) {
+      double d = 0;
+      for (int a = 0; a < D; ++a) d += (double(wall[k][a]) - double(seed[a])) * (double(wall[k][a]) - double(seed[a]));
+      order[k] = {d, k};
+    }
+    std::sort(order.begin(), order.end());
+    for (const auto& [distance, k] : order) {
+      const Vec<T, D>& w = wall[k];
       bool near = true;
       for (int a = 0; a < D; ++a) near = near && double(w[a]) > lo[a] - margin && double(w[a]) < hi[a] + margin;
       if (!near) continue;
-      int best_axis = 0;
-      bool best_upper = false;
-      double best = -1;
-      for (int a = 0; a < D; ++a)
-        for (int side = 0; side < 2; ++side) {
-          double l[D], h[D];
-          for (int b = 0; b < D; ++b) l[b] = lo[b], h[b] = hi[b];
-          if (side == 0) l[a] = std::max(l[a], double(w[a]) + margin);
-          else h[a] = std::min(h[a], double(w[a]) - margin);
-          const double v = volume(l, h);
-          if (v > best) best = v, best_axis = a, best_upper = side == 1;
-        }
-      if (best_upper) hi[best_axis] = std::min(hi[best_axis], double(w[best_axis]) - margin);
-      else lo[best_axis] = std::max(lo[best_axis], double(w[best_axis]) + margin);
+      int axis = 0;
+      for (int a = 1; a < D; ++a)
+        if (std::abs(double(w[a]) - double(seed[a])) > std::abs(double(w[axis]) - double(seed[axis]))) axis = a;
+      if (!(std::abs(double(w[axis]) - double(seed[axis])) > margin)) return empty();  // a wall at the seed
+      if (double(w[axis]) > double(seed[axis])) hi[axis] = std::min(hi[axis], double(w[axis]) - margin);
+      else lo[axis] = std::max(lo[axis], double(w[axis]) + margin);
     }
     for (int a = 0; a < D; ++a)
       if (!(lo[a] < hi[a])) return empty();
