@@ -3,7 +3,6 @@
 // device is not available.
 
 #include "unisph/exec/backend/cuda/runtime.hpp"
-#include "unisph/exec/backend/cuda/release_scratch.hpp"
 
 #include <mutex>
 #include <string>
@@ -135,32 +134,14 @@ void fill_zero(void* dst, std::size_t bytes, std::string_view what) {
 
 void synchronize(std::string_view what) { check(cudaStreamSynchronize(stream()), std::string(what)); }
 
-namespace {
-struct Scratch {
-  void* ptr = nullptr;
-  std::size_t bytes = 0;
-};
-Scratch& scratch_storage() {
-  static Scratch s;
-  return s;
-}
-std::mutex& scratch_mutex() {
-  static std::mutex m;
-  return m;
-}
-}  // namespace
-
-void release_scratch() {
-  std::lock_guard lock(scratch_mutex());
-  Scratch& s = scratch_storage();
-  deallocate(s.ptr);  // cudaFree waits for the device: no queued work still uses it
-  s.ptr = nullptr;
-  s.bytes = 0;
-}
-
 void* scratch(std::size_t bytes, std::string_view what) {
-  std::lock_guard lock(scratch_mutex());
-  Scratch& s = scratch_storage();
+  struct Scratch {
+    void* ptr = nullptr;
+    std::size_t bytes = 0;
+  };
+  static Scratch s;
+  static std::mutex mutex;
+  std::lock_guard lock(mutex);
   if (bytes > s.bytes) {
     // cudaFree waits for the device, so no queued work still uses the old buffer.
     deallocate(s.ptr);
@@ -206,7 +187,6 @@ void copy_on_device(void*, const void*, std::size_t, std::string_view) { unavail
 void fill_zero(void*, std::size_t, std::string_view) { unavailable(); }
 void synchronize(std::string_view) {}
 void* scratch(std::size_t, std::string_view) { unavailable(); }
-void release_scratch() {}
 
 #endif
 

@@ -9,7 +9,6 @@
 #include <sstream>
 
 #include "unisph/exec/algorithms.hpp"
-#include "unisph/exec/backend/cuda/release_scratch.hpp"
 #include "unisph/io/checkpoint_file.hpp"
 #include "unisph/neighbor/cell_linked_list.hpp"
 #include "unisph/neighbor/contact_relation.hpp"
@@ -203,8 +202,6 @@ struct WeaklyCompressibleSolver<T, D>::State {
     TankParticles<T, D> p;
     if (c.general()) {
       p = visit_policy(kind, [&](auto policy) { return make_body_particles<T, D>(policy, c); });
-      // The lattice over the whole domain took scratch storage the run never needs again.
-      if (kind == PolicyKind::device) cuda::release_scratch();
     } else {
       p = make_tank_particles<T, D>(c.tank, c.column, c.dx);
     }
