@@ -72,17 +72,8 @@ struct Reader {
   }
 
   void only_keys(const toml::table& table, const std::string& prefix, std::initializer_list<std::string_view> known) const {
-    for (const auto& [key, node] : table) {
-      bool ok = false;
-      for (auto k : known) ok = ok || key.str() == k;
-      if (!ok) {
-        std::string list;
-        for (auto k : known) list += (list.empty() ? "" : ", ") + std::string(k);
-        fail(&node, prefix + std::string(key.str()), "unknown key (known here: " + list + ")");
-      }
-    }
+    only_keys(table, prefix, std::vector<std::string_view>(known));
   }
-
   void only_keys(const toml::table& table, const std::string& prefix, const std::vector<std::string_view>& known) const {
     for (const auto& [key, node] : table) {
       bool ok = false;

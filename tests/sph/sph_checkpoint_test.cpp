@@ -22,6 +22,7 @@
 
 using namespace unisph;
 using namespace unisph::sph;
+using unisph::testing::kind_of;
 namespace fs = std::filesystem;
 
 namespace {
@@ -62,13 +63,6 @@ std::string read_bytes(const fs::path& p) {
 }
 void write_bytes(const fs::path& p, const std::string& bytes) {
   std::ofstream(p, std::ios::binary | std::ios::trunc).write(bytes.data(), std::streamsize(bytes.size()));
-}
-
-template <class P>
-PolicyKind kind_of() {
-  if constexpr (P::space == MemorySpace::device) return PolicyKind::device;
-  else if constexpr (std::is_same_v<P, SequencedPolicy>) return PolicyKind::seq;
-  else return PolicyKind::par;
 }
 
 // The largest difference between two bodies over every sortable variable, compared element

@@ -18,15 +18,9 @@
 
 using namespace unisph;
 using namespace unisph::sph;
+using unisph::testing::kind_of;
 
 namespace {
-
-template <class P>
-PolicyKind kind_of() {
-  if constexpr (P::space == MemorySpace::device) return PolicyKind::device;
-  else if constexpr (std::is_same_v<P, SequencedPolicy>) return PolicyKind::seq;
-  else return PolicyKind::par;
-}
 
 // The sum of every particle's mass in the order of the ids (independent of the particles' order).
 double mass_by_id(Body<double, 3>& body) {

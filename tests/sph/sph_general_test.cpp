@@ -23,6 +23,7 @@
 
 using namespace unisph;
 using namespace unisph::sph;
+using unisph::testing::kind_of;
 
 namespace {
 
@@ -38,13 +39,6 @@ std::string replaced(std::string text, const std::string& from, const std::strin
   EXPECT_NE(at, std::string::npos) << "the test's case text lacks: " << from;
   if (at != std::string::npos) text.replace(at, from.size(), to);
   return text;
-}
-
-template <class P>
-PolicyKind kind_of() {
-  if constexpr (P::space == MemorySpace::device) return PolicyKind::device;
-  else if constexpr (std::is_same_v<P, SequencedPolicy>) return PolicyKind::seq;
-  else return PolicyKind::par;
 }
 
 template <class T, int D>

@@ -29,15 +29,9 @@
 
 using namespace unisph;
 using namespace unisph::sph;
+using unisph::testing::kind_of;
 
 namespace {
-
-template <class P>
-PolicyKind kind_of() {
-  if constexpr (P::space == MemorySpace::device) return PolicyKind::device;
-  else if constexpr (std::is_same_v<P, SequencedPolicy>) return PolicyKind::seq;
-  else return PolicyKind::par;
-}
 
 // The loads on a solver's wall bodies, from its public API: its fluid and wall bodies' registered
 // variables (the prior acceleration included), its wall bodies' counts, and a cell list and a

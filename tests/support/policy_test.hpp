@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <type_traits>
 
 #include "unisph/exec/policy.hpp"
 
@@ -35,6 +36,14 @@ class PolicyTest : public ::testing::Test {
     }
   }
 };
+
+// The run-time kind of a policy type (for code that takes a PolicyKind, such as the solver).
+template <class P>
+PolicyKind kind_of() {
+  if constexpr (P::space == MemorySpace::device) return PolicyKind::device;
+  else if constexpr (std::is_same_v<P, SequencedPolicy>) return PolicyKind::seq;
+  else return PolicyKind::par;
+}
 
 }  // namespace unisph::testing
 
