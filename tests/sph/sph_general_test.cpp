@@ -111,6 +111,9 @@ end = 10.0
 UNISPH_POLICY_TEST_SUITE(GeneralForm);
 
 TYPED_TEST(GeneralForm, HydrostaticTankWithShapesIsTheShortForm) {
+  if (sizeof(Real) == 4)
+    GTEST_SKIP() << "this build computes shapes in unisph::Real = float (UNISPH_SINGLE_PRECISION): the lattice this check "
+                    "compares to the last bit of double is not the same (docs/sph.md, \"The general form\")";
   const PolicyKind kind = kind_of<TypeParam>();
   WeaklyCompressibleSolver<double, 2> short_form(unsettled("hydrostatic_2d.toml"), kind);
   WeaklyCompressibleSolver<double, 2> general(unsettled("hydrostatic_general_2d.toml"), kind);

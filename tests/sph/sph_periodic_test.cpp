@@ -83,6 +83,9 @@ UNISPH_POLICY_TEST_SUITE(Periodic);
 // the par order of summation within a cell to more than 1e-9.) The kinetic energy of the wave
 // decays as exp(-8 pi^2 nu t) (nu = 0.01) around the constant drift.
 TYPED_TEST(Periodic, ShearWaveAgreesWithSeqAndDecays) {
+  if (sizeof(Real) == 4)
+    GTEST_SKIP() << "this build computes shapes in unisph::Real = float (UNISPH_SINGLE_PRECISION): the lattice this check "
+                    "compares to the last bit of double is not the same (docs/sph.md, \"The general form\")";
   CaseDescription c = taylor_green("0.02");
   // The same method on every policy: "automatic" would take stored lists on the CPU and the
   // direct search (geometry of every acoustic step) on the GPU.
@@ -135,6 +138,9 @@ TYPED_TEST(Periodic, ShearWaveAgreesWithSeqAndDecays) {
 }
 
 TYPED_TEST(Periodic, LatticeAtRestStaysAtRestAndProbesSeeAcrossFaces) {
+  if (sizeof(Real) == 4)
+    GTEST_SKIP() << "this build computes shapes in unisph::Real = float (UNISPH_SINGLE_PRECISION): the lattice this check "
+                    "compares to the last bit of double is not the same (docs/sph.md, \"The general form\")";
   // Fluid at rest at rho0 fills the periodic box: every particle has a full, uniform
   // neighbourhood across the faces, so nothing moves (a face that was not periodic would push).
   std::string text = file_text(taylor_green_path);
@@ -156,6 +162,9 @@ TYPED_TEST(Periodic, LatticeAtRestStaysAtRestAndProbesSeeAcrossFaces) {
 }
 
 TYPED_TEST(Periodic, CheckpointRestoresWithoutImages) {
+  if (sizeof(Real) == 4)
+    GTEST_SKIP() << "this build computes shapes in unisph::Real = float (UNISPH_SINGLE_PRECISION): the lattice this check "
+                    "compares to the last bit of double is not the same (docs/sph.md, \"The general form\")";
   if (kind_of<TypeParam>() != PolicyKind::seq) GTEST_SKIP() << "bit-for-bit continuation is a seq property";
   const CaseDescription c = taylor_green("0.04");
   const auto dir = std::filesystem::temp_directory_path() / ("unisph_periodic_" + std::to_string(::getpid()));
