@@ -17,29 +17,18 @@
 #include <sstream>
 #include <string>
 
+#include "support/case_text.hpp"
 #include "support/policy_test.hpp"
 #include "unisph/solver/case_file.hpp"
 #include "unisph/solver/weakly_compressible_solver.hpp"
 
 using namespace unisph;
 using namespace unisph::sph;
+using unisph::testing::file_text;
 using unisph::testing::kind_of;
+using unisph::testing::replaced;
 
 namespace {
-
-std::string file_text(const std::string& path) {
-  std::ifstream in(path);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-  const std::size_t at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << "the test's case text lacks: " << from;
-  if (at != std::string::npos) text.replace(at, from.size(), to);
-  return text;
-}
 
 template <class T, int D>
 std::vector<Vec<T, D>> by_id(Body<T, D>& body, const std::string& variable) {
