@@ -253,17 +253,21 @@ TEST(HostGeneralForm, BrokenCasesAreRefusedWithOneLine) {
       {replaced(wedge, "name = \"wedge_box\"\ntype = \"box\"", "name = \"wedge_box\"\ntype = \"cylinder\""),
        "key 'shape.type': \"cylinder\" is a 3D shape; this case is 2D"},
   };
-  for (const Broken& b : parse_errors) {
-    try {
-      parse_case(b.text, "dambreak_wedge_2d.toml");
-      ADD_FAILURE() << "accepted; expected: " << b.expected;
-    } catch (const CaseFileError& e) {
-      const std::string what = e.what();
-      EXPECT_NE(what.find(b.expected), std::string::npos) << what;
-      EXPECT_EQ(what.find('\n'), std::string::npos) << what;
-      EXPECT_EQ(what.rfind("dambreak_wedge_2d.toml:", 0), 0u) << what;
+  // Each broken text refused by `attempt` with one line naming the file, line and key.
+  const auto expect_refused = [](const std::vector<Broken>& cases, const auto& attempt) {
+    for (const Broken& b : cases) {
+      try {
+        attempt(b.text);
+        ADD_FAILURE() << "accepted; expected: " << b.expected;
+      } catch (const CaseFileError& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find(b.expected), std::string::npos) << what;
+        EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+        EXPECT_EQ(what.rfind("dambreak_wedge_2d.toml:", 0), 0u) << what;
+      }
     }
-  }
+  };
+  expect_refused(parse_errors, [](const std::string& text) { parse_case(text, "dambreak_wedge_2d.toml"); });
   // Errors found when the bodies are made.
   const std::vector<Broken> body_errors = {
       // A fluid shape thinner than the lattice.
@@ -279,15 +283,7 @@ TEST(HostGeneralForm, BrokenCasesAreRefusedWithOneLine) {
       {replaced(wedge, "lower = [0.0, 0.0]\nupper = [2.0, 1.0]", "lower = [3.9, 0.0]\nupper = [4.3, 0.05]"),
        "key 'body.shape' (body 'water'): every one of the fluid's"},
   };
-  for (const Broken& b : body_errors) {
-    try {
-      WeaklyCompressibleSolver<double, 2> solver(parse_case(b.text, "dambreak_wedge_2d.toml"), PolicyKind::seq);
-      ADD_FAILURE() << "accepted; expected: " << b.expected;
-    } catch (const CaseFileError& e) {
-      const std::string what = e.what();
-      EXPECT_NE(what.find(b.expected), std::string::npos) << what;
-      EXPECT_EQ(what.find('\n'), std::string::npos) << what;
-      EXPECT_EQ(what.rfind("dambreak_wedge_2d.toml:", 0), 0u) << what;
-    }
-  }
+  expect_refused(body_errors, [](const std::string& text) {
+    WeaklyCompressibleSolver<double, 2> solver(parse_case(text, "dambreak_wedge_2d.toml"), PolicyKind::seq);
+  });
 }
