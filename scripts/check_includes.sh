@@ -4,7 +4,7 @@
 # graph's: a module may include itself and the modules before it, never one after it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-order=(core io smoothing memory exec dynamics particles comm iter neighbor grid geometry levelset relaxation shape sph solver)
+order=(core io smoothing memory exec dynamics motion particles comm iter neighbor grid geometry levelset relaxation shape sph solver)
 declare -A rank
 for i in "${!order[@]}"; do rank[${order[$i]}]=$i; done
 status=0
