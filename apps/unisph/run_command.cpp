@@ -272,6 +272,9 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
         << description.obstacles[k].file;
   if (!description.obstacles.empty() || description.general())
     log << "\nfluid lattice points removed next to walls: " << solver.removed_fluid_count();
+  for (const sph::RelaxedBodyReport& r : solver.relaxed_bodies())
+    log << "\nrelaxed body " << r.name << ": " << r.particles << " particles, " << r.iterations
+        << " iterations, error |sum grad W V + G| h mean " << r.mean_error << ", max " << r.max_error;
   if (description.domain.leaving == "remove")
     log << "\nfluid particles that left the domain (removed): " << solver.left_domain_count() << ", mass "
         << solver.left_domain_mass();

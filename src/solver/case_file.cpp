@@ -428,6 +428,7 @@ void read_shapes(const Reader& r, const toml::table& root, CaseDescription& c) {
 }
 
 // [[body]] tables: fluid or wall bodies made of named shapes.
+constexpr long long default_relaxation_iterations = 1500;  // RelaxationSettings' default
 void read_bodies(const Reader& r, const toml::table& root, CaseDescription& c) {
   const int d = c.dimension;
   for (const toml::node& entry : tables(r, root.get("body"), "body")) {
@@ -445,11 +446,25 @@ void read_bodies(const Reader& r, const toml::table& root, CaseDescription& c) {
     bool found = false;
     for (const ShapeDescription& s : c.shapes) found = found || s.name == body.shape;
     if (!found) r.fail(t.get("shape"), "body.shape", "'" + body.shape + "' is not the name of a [[shape]]");
+    // fill = "lattice" (default) or "relaxed" (body-fitted: shape/relaxed_particles.hpp).
+    body.fill = r.choice(t, "body.", "fill", {"lattice", "relaxed"});
+    if (body.fill == "relaxed") {
+      const long long iterations = r.integer(t, "body.", "relaxation_iterations", &default_relaxation_iterations);
+      if (iterations < 1 || iterations > 100000)
+        r.fail(t.get("relaxation_iterations"), "body.relaxation_iterations",
+               "must be 1 to 100000 (it is " + std::to_string(iterations) + ")");
+      body.relaxation_iterations = int(iterations);
+      if (!c.domain.periodic.empty())
+        r.fail(t.get("fill"), "body.fill",
+               "relaxed bodies are not available in a periodic domain (the relaxation does not see across periodic faces)");
+    } else if (t.get("relaxation_iterations")) {
+      r.fail(t.get("relaxation_iterations"), "body.relaxation_iterations", "is read only with body.fill = \"relaxed\"");
+    }
     if (body.kind == "fluid") {
-      r.only_keys(t, "body.", {"name", "kind", "shape", "velocity"});
+      r.only_keys(t, "body.", {"name", "kind", "shape", "velocity", "fill", "relaxation_iterations"});
       body.velocity = t.get("velocity") ? r.vector(t, "body.", "velocity", d, false) : std::vector<double>(std::size_t(d), 0.0);
     } else {
-      r.only_keys(t, "body.", {"name", "kind", "shape", "layers"});
+      r.only_keys(t, "body.", {"name", "kind", "shape", "layers", "fill", "relaxation_iterations"});
       const long long four = 4;
       const long long layers = r.integer(t, "body.", "layers", &four);
       if (layers < 1 || layers > 16) r.fail(t.get("layers"), "body.layers", "must be 1 to 16 (it is " + std::to_string(layers) + ")");

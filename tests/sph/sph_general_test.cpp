@@ -252,6 +252,12 @@ TEST(HostGeneralForm, BrokenCasesAreRefusedWithOneLine) {
        "key 'domain.upper': must be above domain.lower along every axis (not along axis 1)"},
       {replaced(wedge, "name = \"wedge_box\"\ntype = \"box\"", "name = \"wedge_box\"\ntype = \"cylinder\""),
        "key 'shape.type': \"cylinder\" is a 3D shape; this case is 2D"},
+      {replaced(wedge, "shape = \"column\"", "shape = \"column\"\nfill = \"smooth\""),
+       "key 'body.fill': must be \"lattice\" or \"relaxed\" (it is \"smooth\")"},
+      {replaced(wedge, "shape = \"column\"", "shape = \"column\"\nrelaxation_iterations = 100"),
+       "key 'body.relaxation_iterations': is read only with body.fill = \"relaxed\""},
+      {replaced(wedge, "shape = \"column\"", "shape = \"column\"\nfill = \"relaxed\"\nrelaxation_iterations = 0"),
+       "key 'body.relaxation_iterations': must be 1 to 100000 (it is 0)"},
   };
   // Each broken text refused by `attempt` with one line naming the file, line and key.
   const auto expect_refused = [](const std::vector<Broken>& cases, const auto& attempt) {

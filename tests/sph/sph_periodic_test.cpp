@@ -199,6 +199,8 @@ TEST(HostPeriodic, BrokenCasesAreRefusedWithOneLine) {
       {replaced(tg, "periodic = [\"x\", \"y\"]", "periodic = \"x\""), "key 'domain.periodic': must be an array of axis names"},
       {replaced(tg, "periodic = [\"x\", \"y\"]", "periodic = [0]"), "key 'domain.periodic': entries must be axis names"},
       {replaced(tg, "periodic = [\"x\", \"y\"]\n", ""), "key 'physics.gravity': must not be the zero vector"},
+      {replaced(tg, "shape = \"box\"\n", "shape = \"box\"\nfill = \"relaxed\"\n"),
+       "key 'body.fill': relaxed bodies are not available in a periodic domain"},
   };
   for (const Broken& b : parse_errors) {
     try {

@@ -6,7 +6,9 @@
 //    x = (i + 1/2) dx, `layers` deep, with the unit normal out of the solid (into the fluid);
 //  * each fluid body: its shape filled on the same lattice (whole cells, shape/lattice_particles.hpp),
 //    less the points within dx / 2 of any wall body's surface (counted), with its initial velocity;
-//  * the [[obstacle]] particle files, as in the short form, after the wall bodies.
+//  * the [[obstacle]] particle files, as in the short form, after the wall bodies;
+//  * with fill = "relaxed" a body's particles are body-fitted instead (shape/relaxed_particles.hpp):
+//    a wall's band `layers` dx deep, a fluid's shape less the walls', each relaxed within the domain.
 //
 // Shapes are built once per name and shared by every body and boolean that names them; the
 // level set of a geometry file is built once per file (shape::MeshLevelSetCache). Every
@@ -24,6 +26,7 @@
 #include "unisph/shape/compiled_shape.hpp"
 #include "unisph/shape/lattice_particles.hpp"
 #include "unisph/shape/mesh_level_set.hpp"
+#include "unisph/shape/relaxed_particles.hpp"
 #include "unisph/shape/shape.hpp"
 #include "unisph/solver/case_description.hpp"
 #include "unisph/solver/case_file.hpp"
@@ -180,6 +183,40 @@ Index orient_towards_fluid_space(const std::vector<Vec<T, D>>& wall, std::vector
   return changed;
 }
 
+// A fluid body with fill = "relaxed": its shape less every wall's (so the relaxed particles line
+// the walls' surfaces instead of being removed next to them), within the domain, relaxed.
+template <class T, int D, ExecutionPolicy P>
+void append_relaxed_fluid(P policy, const CaseDescription& c, const BodyDescription& b, const shape::Shape<D>& fluid,
+                          const std::vector<shape::Shape<D>>& walls, const Box<Real, D>& domain, TankParticles<T, D>& out) {
+  const std::string where = c.source + ":" + std::to_string(b.line) + ": key 'body.shape' (body '" + b.name + "'): ";
+  {
+    const shape::CompiledShape<D> compiled(fluid);
+    if (compiled.bounded()) {
+      const Box<Real, D>& bounds = compiled.bounds();
+      for (int a = 0; a < D; ++a)
+        if (bounds.lower[a] < domain.lower[a] || bounds.upper[a] > domain.upper[a])
+          throw CaseFileError(where + "the fluid's shape '" + b.shape + "' reaches outside the domain");
+    }
+  }
+  const shape::Shape<D> region = walls.empty() ? fluid : shape::difference<D>(fluid, shape::union_of<D>(walls));
+  std::vector<Vec<Real, D>> points;
+  shape::RelaxedFill fill;
+  try {
+    points = shape::relax_in_shape(policy, region, Real(c.dx), domain, b.relaxation_iterations, &fill);
+  } catch (const shape::ShapeError& e) {
+    throw CaseFileError(where + e.what());
+  }
+  out.relaxed.push_back({b.name, points.size(), fill.iterations, double(fill.mean_error), double(fill.max_error)});
+  Vec<T, D> velocity{};
+  for (int a = 0; a < D; ++a) velocity[a] = T(b.velocity.empty() ? 0.0 : b.velocity[std::size_t(a)]);
+  for (const Vec<Real, D>& x : points) {
+    Vec<T, D> y{};
+    for (int a = 0; a < D; ++a) y[a] = T(x[a]);
+    out.fluid.push_back(y);
+    out.fluid_velocity.push_back(velocity);
+  }
+}
+
 // The particles of the general form's bodies, made on `policy` (the same points on every one):
 // fluid (with fluid_velocity), wall and wall_normal with one wall_groups entry per wall body,
 // removed_fluid the lattice points within dx / 2 of a wall.
@@ -213,7 +250,13 @@ TankParticles<T, D> make_body_particles(P policy, const CaseDescription& c) {
     shape::CompiledShape<D> compiled(s);
     shape::LatticeParticles<D> p;
     try {
-      p = shape::make_wall_particles(policy, compiled, dx, b.layers, options);
+      if (b.fill == "relaxed") {
+        shape::RelaxedFill fill;
+        p = shape::make_relaxed_wall_particles(policy, s, dx, b.layers, domain, b.relaxation_iterations, &fill);
+        out.relaxed.push_back({b.name, p.position.size(), fill.iterations, double(fill.mean_error), double(fill.max_error)});
+      } else {
+        p = shape::make_wall_particles(policy, compiled, dx, b.layers, options);
+      }
     } catch (const shape::ShapeError& e) {
       throw CaseFileError(where(b, "body.shape") + e.what());
     }
@@ -237,6 +280,10 @@ TankParticles<T, D> make_body_particles(P policy, const CaseDescription& c) {
 
   for (const BodyDescription& b : c.bodies) {
     if (b.kind != "fluid") continue;
+    if (b.fill == "relaxed") {
+      append_relaxed_fluid<T, D>(policy, c, b, shapes.get(policy, b.shape), walls, domain, out);
+      continue;
+    }
     shape::CompiledShape<D> compiled(shapes.get(policy, b.shape));
     // A bounded fluid shape is filled whole (and refused if it reaches out of the domain); an
     // unbounded one (a half-space, or a boolean with one) within the domain.

@@ -53,13 +53,17 @@ struct ShapeDescription {
 
 // [[body]]: particles made from a shape. A fluid body fills its shape on the lattice
 // x = (i + 1/2) dx; a wall body is the dummy particles of its shape's solid side, `layers`
-// lattice layers deep, with normals out of the solid.
+// lattice layers deep, with normals out of the solid. With fill = "relaxed" the particles are
+// body-fitted instead: seeded on the lattice, then relaxed against the shape's surface
+// (shape/relaxed_particles.hpp); a relaxed fluid fills its shape less the walls'.
 struct BodyDescription {
   std::string name;
   std::string kind;                // "fluid" or "wall"
   std::string shape;               // the name of a [[shape]]
   std::vector<double> velocity;    // fluid: initial velocity (D values, zeros by default)
-  int layers = 4;                  // wall: lattice layers of dummy particles
+  int layers = 4;                  // wall: layers of dummy particles (lattice layers, or the band's depth in dx)
+  std::string fill = "lattice";    // "lattice" or "relaxed"
+  int relaxation_iterations = 1500;  // fill = "relaxed": iterations of the relaxation
   int line = 0;
 };
 

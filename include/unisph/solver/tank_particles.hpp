@@ -17,6 +17,15 @@ namespace unisph::sph {
 
 inline constexpr int wall_layers = 4;
 
+// A body made with fill = "relaxed": its particles and the relaxation's final error (mean and
+// max of |sum grad W V + G| h, shape/relaxed_particles.hpp).
+struct RelaxedBodyReport {
+  std::string name;
+  std::size_t particles = 0;
+  int iterations = 0;
+  double mean_error = 0, max_error = 0;
+};
+
 template <class T, int D>
 struct TankParticles {
   std::vector<Vec<T, D>> fluid;
@@ -30,6 +39,8 @@ struct TankParticles {
   // rest), and each named wall body's particle count in order (empty: the tank, then the obstacles).
   std::vector<Vec<T, D>> fluid_velocity;
   std::vector<std::pair<std::string, std::size_t>> wall_groups;
+  // The general form's relaxed bodies (fill = "relaxed"), in the case's order.
+  std::vector<RelaxedBodyReport> relaxed;
 };
 
 namespace tank_detail {

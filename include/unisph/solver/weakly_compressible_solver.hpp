@@ -22,6 +22,7 @@
 #include "unisph/exec/policy.hpp"
 #include "unisph/particles/body.hpp"
 #include "unisph/solver/case_description.hpp"
+#include "unisph/solver/tank_particles.hpp"
 
 namespace unisph::sph {
 
@@ -93,6 +94,8 @@ class WeaklyCompressibleSolver {
   // The wall bodies: the general form's [[body]] walls, then the obstacles ("obstacle_1", ...);
   // the short form's "tank", then its obstacles.
   const std::vector<WallBodyCount>& wall_bodies() const;
+  // The bodies made with fill = "relaxed" (general form), with the relaxation's final error.
+  const std::vector<RelaxedBodyReport>& relaxed_bodies() const;
   // Fluid particles removed since the start because they left the domain (domain.leaving =
   // "remove"), and their mass.
   Index left_domain_count() const;

@@ -273,6 +273,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
         wall_groups(wall_groups_of(c, particles)),
         obstacle_counts(particles.obstacle_wall_counts.begin(), particles.obstacle_wall_counts.end()),
         removed_fluid(particles.removed_fluid),
+        relaxed(particles.relaxed),
         domain(domain_of(c)),
         fluid_body("Water", domain, particles.fluid.size()),
         wall_body("Wall", domain, particles.wall.size()),
@@ -799,6 +800,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
   std::vector<WallBodyCount> wall_groups;  // each wall body's particles, in the order of their ids
   std::vector<Index> obstacle_counts;  // wall particles of each obstacle (after the tank's)
   Index removed_fluid = 0;             // lattice points the obstacles took
+  std::vector<RelaxedBodyReport> relaxed;  // the bodies made with fill = "relaxed"
   Box<T, D> domain;
   Body<T, D> fluid_body;
   Body<T, D> wall_body;
@@ -873,6 +875,8 @@ template <class T, int D>
 Index WeaklyCompressibleSolver<T, D>::removed_fluid_count() const { return state_->removed_fluid; }
 template <class T, int D>
 const std::vector<WallBodyCount>& WeaklyCompressibleSolver<T, D>::wall_bodies() const { return state_->wall_groups; }
+template <class T, int D>
+const std::vector<RelaxedBodyReport>& WeaklyCompressibleSolver<T, D>::relaxed_bodies() const { return state_->relaxed; }
 template <class T, int D>
 Index WeaklyCompressibleSolver<T, D>::left_domain_count() const { return state_->removed_particles; }
 template <class T, int D>
