@@ -41,8 +41,8 @@ UNISPH_HOST_DEVICE T sloshing_natural_period(int mode, T length, T depth, T g) {
 // Σ c_n cos(k_n (x + L/2)) = x on the tank, this is summed as
 //   E(x) = (A ω² / g) [x + Σ_{n odd} c_n cos(k_n (x + L/2)) ω² / (ω_n² - ω²)]
 // whose terms fall as n^-3: the first `modes` odd modes (n = 1, 3, ..., 2 modes - 1) leave out
-// about (A ω² / g) ω² L² / (4 π³ g modes²) at the wall (the deep-water tail; 1e-9 m for
-// L = 1 m, A = 1 cm at 1.2 times the first natural frequency with 1000 modes). E is infinite at ω = ω_n (n odd); below ω_1, E(L/2) > 0: the water rises on the
+// about (A ω² / g) ω² L² / (4 π³ g modes²) at the wall (the deep-water tail; 1.4e-9 m for
+// L = 1 m, h = 0.5 m, A = 1 cm at 1.2 times the first natural frequency with 1000 modes). E is infinite at ω = ω_n (n odd); below ω_1, E(L/2) > 0: the water rises on the
 // wall towards which the tank is displaced, as the quasi-static tilt -Ẍ x / g (ω → 0) says.
 template <class T>
 UNISPH_HOST_DEVICE T sway_elevation_amplitude(T x, T length, T depth, T sway_amplitude, T omega, T g,
