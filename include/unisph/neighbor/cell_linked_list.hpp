@@ -200,8 +200,14 @@ class CellLinkedList {
   // cutoff / 4, which the search walks with a wider stencil: see search_grid.hpp).
   CellLinkedList(DiscreteVariable<Position>& positions, const Box<T, D>& box, T cutoff,
                  OutsideParticles outside = OutsideParticles::clamp, T cell_size = T(0))
+      : CellLinkedList(positions, SearchGrid<T, D>::make(box, cutoff, cell_size), outside) {}
+
+  // A list over `positions` on a grid made beforehand (SearchGrid::make_periodic: cells that
+  // divide the periodic axes exactly, for wrapped cell indices; see periodic_cell_list.hpp).
+  CellLinkedList(DiscreteVariable<Position>& positions, const SearchGrid<T, D>& grid,
+                 OutsideParticles outside = OutsideParticles::clamp)
       : positions_(positions),
-        grid_(SearchGrid<T, D>::make(box, cutoff, cell_size)),
+        grid_(grid),
         outside_(outside),
         offsets_(positions.name() + ".CellOffsets", grid_.cell_count() + 2),
         particles_(positions.name() + ".CellParticles"),

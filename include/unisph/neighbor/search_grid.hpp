@@ -10,7 +10,15 @@
 // default cell_size = cutoff: the 3^D cells around it). Smaller cells walk fewer candidates
 // when the search skips the cells beyond the cutoff (neighbor_search.hpp). Axis 0 runs
 // fastest in the linear cell index, so the cells of a row along axis 0 are consecutive.
+//
+// make() covers the box with cubic cells, the last one along each axis partial (the upper face
+// lies in it). make_periodic() is the option for wrapped cell indices (periodic_cell_walk.hpp):
+// along the axes it is told are periodic the cells divide the box exactly (cells of edge
+// L / floor(L / cell_size), no partial cell), so that cell cells[a] is cell 0 one period on.
+// Other axes, and every axis of make(), keep the cubic cells: place() then computes exactly what
+// it computed before the option existed (axis_inverse_cell_size[a] == inverse_cell_size).
 
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -54,7 +62,15 @@ struct SearchGrid {
   int reach;          // cells searched on each side: the smallest k with k * cell_size >= cutoff
   // The cutoff in cell units, padded for the rounding of cell coordinates: a cell farther
   // than this from a particle's cell coordinate (cell_coordinate) holds none of its neighbours.
+  // In units of cell_size: along an axis make_periodic() divides exactly the cells are wider, so
+  // the radius (and reach) are conservative there.
   T stencil_radius;
+  // The cells' edge along each axis and its inverse: cell_size and inverse_cell_size, except
+  // along the axes make_periodic() divides exactly (L_a / cells[a] >= cell_size).
+  Vec<T, D> axis_cell_size;
+  Vec<T, D> axis_inverse_cell_size;
+  // Bit a: make_periodic() divided axis a exactly (0 for a grid of make()).
+  unsigned periodic_axes;
 
   // The grid covering `box` with cells of `cell_size` (0: the cutoff). Throws unisph::Error
   // for an empty or non-finite box, a cutoff that is not positive, a cell size below
@@ -97,8 +113,33 @@ struct SearchGrid {
     if (total >= Index(std::numeric_limits<std::uint32_t>::max()))
       throw Error("SearchGrid: the box " + to_string(box) + " needs " + std::to_string(total) +
                   " cells; cell lists index cells with 32 bits, use larger cells or a smaller box");
+    g.axis_cell_size = Vec<T, D>::constant(g.cell_size);
+    g.axis_inverse_cell_size = Vec<T, D>::constant(g.inverse_cell_size);
+    g.periodic_axes = 0u;
     return g;
   }
+
+  // make()'s grid, except along the axes with periodic[a]: there floor(L_a / cell_size) cells
+  // (at least one) of edge L_a / cells[a] divide the box's length L_a = upper - lower exactly,
+  // the upper face in the last cell. reach and stencil_radius are make()'s (conservative along
+  // the wider cells). Throws what make() throws.
+  static SearchGrid make_periodic(const Box<T, D>& box, T cutoff, const std::array<bool, D>& periodic,
+                                  T cell_size = T(0)) {
+    SearchGrid g = make(box, cutoff, cell_size);
+    for (int a = 0; a < D; ++a) {
+      if (!periodic[a]) continue;
+      // make() set cells[a] = floor(t) + 1 with t = L_a / cell_size as place() computes it.
+      const int n = g.cells[a] > 1 ? g.cells[a] - 1 : 1;
+      const T length = uncontracted::sub(box.upper[a], box.lower[a]);
+      g.cells[a] = n;
+      g.axis_cell_size[a] = length / T(n);
+      g.axis_inverse_cell_size[a] = T(n) / length;
+      g.periodic_axes |= 1u << a;
+    }
+    return g;
+  }
+
+  UNISPH_HOST_DEVICE bool is_periodic(int a) const { return (periodic_axes >> a) & 1u; }
 
   UNISPH_HOST_DEVICE Index cell_count() const {
     Index total = 1;
@@ -118,7 +159,7 @@ struct SearchGrid {
         continue;
       }
       if (xa < box.lower[a] || xa > box.upper[a]) p.status |= placement_out_of_box;
-      const T t = uncontracted::mul(uncontracted::sub(xa, box.lower[a]), inverse_cell_size);
+      const T t = uncontracted::mul(uncontracted::sub(xa, box.lower[a]), axis_inverse_cell_size[a]);
       // Compared as floating point before the conversion, which is undefined out of range.
       p.cell[a] = t < T(0) ? 0 : (t < T(cells[a]) ? static_cast<int>(t) : cells[a] - 1);
     }
@@ -127,7 +168,7 @@ struct SearchGrid {
 
   // x along axis a in cell units from the lower face (the arithmetic of place()).
   UNISPH_HOST_DEVICE T cell_coordinate(const Vec<T, D>& x, int a) const {
-    return uncontracted::mul(uncontracted::sub(x[a], box.lower[a]), inverse_cell_size);
+    return uncontracted::mul(uncontracted::sub(x[a], box.lower[a]), axis_inverse_cell_size[a]);
   }
 
   UNISPH_HOST_DEVICE Index linear_index(const Vec<int, D>& c) const {
