@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -109,6 +110,7 @@ TYPED_TEST(TimeLawTest, ConstantRateIsExact) {
     EXPECT_EQ(got[i].rate, Real(0.25));
     EXPECT_EQ(got[i].acceleration, Real(0));
   }
+  expect_consistent_derivatives(this->policy, law, {Real(0.5), Real(3)}, Real(0.125), Real(0.25), Real(1), 4 * eps);
 }
 
 TYPED_TEST(TimeLawTest, RampValuesAreExactWhereArithmeticIsExact) {
