@@ -296,7 +296,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
                           c.free_surface_density == "carried" ? SurfaceDensity::carried
                           : c.free_surface_density == "none" ? SurfaceDensity::none
                                                              : SurfaceDensity::reference),
-        prior_acceleration(fluid, inner, contact, kernel, gravity_of(c), T(c.viscosity), wall_volume),
+        prior_acceleration(fluid, inner, contact, kernel, gravity_of(c), T(c.viscosity), wall_volume, T(c.dx)),
         pressure_start(fluid, eos),
         wall_free(wall_free_of(c, particles, domain, double(kernel.cutoff()))),
         pressure_relaxation(fluid, wall, inner, contact, kernel, riemann, wall_volume, wall_free),
