@@ -427,6 +427,54 @@ void read_shapes(const Reader& r, const toml::table& root, CaseDescription& c) {
   }
 }
 
+// [body.translation] or [body.rotation] of a wall body (case_description.hpp, MotionDescription).
+MotionDescription read_motion(const Reader& r, const toml::table& body, const std::string& which, int d) {
+  MotionDescription m;
+  const toml::node* node = body.get(which);
+  if (!node) return m;
+  const std::string prefix = "body." + which + ".";
+  if (!node->is_table()) r.fail(node, "body." + which, "must be a table ([body." + which + "] after the [[body]])");
+  const toml::table& t = *node->as_table();
+  m.line = int(t.source().begin.line);
+  if (!t.get("law")) r.fail_at(t, prefix + "law", "missing value (\"constant\", \"sinusoid\" or \"table\")");
+  m.law = r.choice(t, prefix, "law", {"constant", "sinusoid", "table"});
+  const bool rotation = which == "rotation";
+  std::vector<std::string_view> keys = {"law"};
+  if (rotation) {
+    m.pivot = r.vector(t, prefix, "pivot", d, false);
+    keys.push_back("pivot");
+    if (d == 3) {
+      m.axis = r.vector(t, prefix, "axis", 3, false);
+      if (m.axis[0] == 0 && m.axis[1] == 0 && m.axis[2] == 0) r.fail(t.get("axis"), prefix + "axis", "must not be the zero vector");
+      keys.push_back("axis");
+    }
+  } else {
+    m.direction = r.vector(t, prefix, "direction", d, false);
+    bool zero = true;
+    for (double x : m.direction) zero = zero && x == 0;
+    if (zero) r.fail(t.get("direction"), prefix + "direction", "must not be the zero vector");
+    keys.push_back("direction");
+  }
+  if (m.law == "constant") {
+    m.rate = r.number(t, prefix, rotation ? "rate" : "velocity", nullptr);
+    keys.push_back(rotation ? "rate" : "velocity");
+  } else if (m.law == "sinusoid") {
+    m.amplitude = r.number(t, prefix, "amplitude", nullptr);
+    m.period = r.positive(t, prefix, "period");
+    const double zero = 0;
+    m.phase = r.number(t, prefix, "phase", &zero);
+    m.ramp_periods = r.non_negative(t, prefix, "ramp_periods", 0.0);
+    m.start = r.number(t, prefix, "start", &zero);
+    for (const char* k : {"amplitude", "period", "phase", "ramp_periods", "start"}) keys.push_back(k);
+  } else {
+    const std::string file = r.text(t, prefix, "file", nullptr);
+    m.file = (std::filesystem::path(r.source).parent_path() / file).lexically_normal().string();
+    keys.push_back("file");
+  }
+  r.only_keys(t, prefix, keys);
+  return m;
+}
+
 // [[body]] tables: fluid or wall bodies made of named shapes.
 constexpr long long default_relaxation_iterations = 1500;  // RelaxationSettings' default
 void read_bodies(const Reader& r, const toml::table& root, CaseDescription& c) {
@@ -464,7 +512,12 @@ void read_bodies(const Reader& r, const toml::table& root, CaseDescription& c) {
       r.only_keys(t, "body.", {"name", "kind", "shape", "velocity", "fill", "relaxation_iterations"});
       body.velocity = t.get("velocity") ? r.vector(t, "body.", "velocity", d, false) : std::vector<double>(std::size_t(d), 0.0);
     } else {
-      r.only_keys(t, "body.", {"name", "kind", "shape", "layers", "fill", "relaxation_iterations"});
+      r.only_keys(t, "body.", {"name", "kind", "shape", "layers", "fill", "relaxation_iterations", "translation", "rotation"});
+      body.translation = read_motion(r, t, "translation", d);
+      body.rotation = read_motion(r, t, "rotation", d);
+      if (body.moves() && !c.domain.periodic.empty())
+        r.fail(t.get(body.translation.moves() ? "translation" : "rotation"), "body." + std::string(body.translation.moves() ? "translation" : "rotation"),
+               "moving walls are not available in a periodic domain yet");
       const long long four = 4;
       const long long layers = r.integer(t, "body.", "layers", &four);
       if (layers < 1 || layers > 16) r.fail(t.get("layers"), "body.layers", "must be 1 to 16 (it is " + std::to_string(layers) + ")");

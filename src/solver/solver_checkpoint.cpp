@@ -3,8 +3,32 @@
 #include "unisph/solver/solver_checkpoint.hpp"
 
 #include <sstream>
+#include <tuple>
 
 namespace unisph::sph {
+
+namespace {
+void write_motion(io::CheckpointWriter& out, const MotionDescription& m) {
+  out.string(m.law);
+  out.f64s(m.direction);
+  out.f64s(m.pivot);
+  out.f64s(m.axis);
+  for (double v : {m.rate, m.amplitude, m.period, m.phase, m.ramp_periods, m.start}) out.f64(v);
+  out.string(m.file);
+  out.u32(std::uint32_t(m.line));
+}
+MotionDescription read_motion(io::CheckpointReader& in) {
+  MotionDescription m;
+  m.law = in.string();
+  m.direction = in.f64s();
+  m.pivot = in.f64s();
+  m.axis = in.f64s();
+  for (double* v : {&m.rate, &m.amplitude, &m.period, &m.phase, &m.ramp_periods, &m.start}) *v = in.f64();
+  m.file = in.string();
+  m.line = int(in.u32());
+  return m;
+}
+}  // namespace
 
 void write_case(io::CheckpointWriter& out, const CaseDescription& c) {
   out.section("case");
@@ -75,6 +99,8 @@ void write_case(io::CheckpointWriter& out, const CaseDescription& c) {
     out.f64s(b.velocity);
     out.u32(std::uint32_t(b.layers));
     out.u32(std::uint32_t(b.line));
+    write_motion(out, b.translation);
+    write_motion(out, b.rotation);
   }
 }
 
@@ -167,6 +193,8 @@ CaseDescription read_case(io::CheckpointReader& in) {
     b.velocity = in.f64s();
     b.layers = int(in.u32());
     b.line = int(in.u32());
+    b.translation = read_motion(in);
+    b.rotation = read_motion(in);
     c.bodies.push_back(std::move(b));
   }
   if (c.dimension != 2 && c.dimension != 3) in.fail("holds a case of dimension " + std::to_string(c.dimension));
@@ -195,7 +223,7 @@ std::string text(int v) { return std::to_string(v); }
 
 std::string physics_difference(const CaseDescription& a, const CaseDescription& b) {
   std::string found;
-  auto field = [&](const char* name, const auto& x, const auto& y) {
+  auto field = [&](const std::string& name, const auto& x, const auto& y) {
     if (found.empty() && !(x == y)) found = std::string(name) + " (" + text(x) + " here, " + text(y) + " in the checkpoint)";
   };
   field("dimension", a.dimension, b.dimension);
@@ -253,6 +281,21 @@ std::string physics_difference(const CaseDescription& a, const CaseDescription& 
     field("body.shape", x.shape, y.shape);
     field("body.velocity", x.velocity, y.velocity);
     field("body.layers", x.layers, y.layers);
+    for (const auto& [key, p, q] : {std::tuple{"body.translation", &x.translation, &y.translation},
+                                    std::tuple{"body.rotation", &x.rotation, &y.rotation}}) {
+      const std::string k(key);
+      field(k + ".law", p->law, q->law);
+      field(k + ".direction", p->direction, q->direction);
+      field(k + ".pivot", p->pivot, q->pivot);
+      field(k + ".axis", p->axis, q->axis);
+      field(k + ".velocity or rate", p->rate, q->rate);
+      field(k + ".amplitude", p->amplitude, q->amplitude);
+      field(k + ".period", p->period, q->period);
+      field(k + ".phase", p->phase, q->phase);
+      field(k + ".ramp_periods", p->ramp_periods, q->ramp_periods);
+      field(k + ".start", p->start, q->start);
+      field(k + ".file", p->file, q->file);
+    }
   }
   return found;
 }

@@ -51,6 +51,25 @@ struct ShapeDescription {
   }
 };
 
+// [body.translation] / [body.rotation] of a wall body: a prescribed motion (motion/time_law.hpp,
+// motion/rigid_motion.hpp). `law` is empty (no such motion), "constant", "sinusoid" or "table".
+// Translation: along `direction` (D numbers), by velocity t ("constant"), by
+// amplitude sin(2 pi (t - start) / period + phase) ramped over ramp_periods periods
+// ("sinusoid"), or by the displacement of a CSV table time,displacement ("table", `file`).
+// Rotation: about `pivot` (D numbers; in 3D about `axis`), the angle in degrees: rate t,
+// the sinusoid of amplitude degrees, or a table time,angle in degrees. Phases in degrees.
+struct MotionDescription {
+  std::string law;
+  std::vector<double> direction;  // translation
+  std::vector<double> pivot, axis;  // rotation (axis: 3D only)
+  double rate = 0;                 // "constant": velocity, or degrees per unit time
+  double amplitude = 0, period = 0, phase = 0, ramp_periods = 0, start = 0;  // "sinusoid"
+  std::string file;                // "table": as resolved (the case file's folder / the file named)
+  int line = 0;                    // of the table [body.translation] / [body.rotation], for messages
+
+  bool moves() const { return !law.empty(); }
+};
+
 // [[body]]: particles made from a shape. A fluid body fills its shape on the lattice
 // x = (i + 1/2) dx; a wall body is the dummy particles of its shape's solid side, `layers`
 // lattice layers deep, with normals out of the solid. With fill = "relaxed" the particles are
@@ -64,7 +83,10 @@ struct BodyDescription {
   int layers = 4;                  // wall: layers of dummy particles (lattice layers, or the band's depth in dx)
   std::string fill = "lattice";    // "lattice" or "relaxed"
   int relaxation_iterations = 1500;  // fill = "relaxed": iterations of the relaxation
+  MotionDescription translation, rotation;  // wall: a prescribed motion (none by default)
   int line = 0;
+
+  bool moves() const { return translation.moves() || rotation.moves(); }
 };
 
 // [domain]: the box particles live in. A fluid particle that leaves it is removed and counted

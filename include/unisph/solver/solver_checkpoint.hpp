@@ -27,8 +27,9 @@ namespace unisph::sph {
 // 6: the general form (gravity vector, free surface, domain, shapes, bodies) and fluid removed from the domain
 // 7: domain.periodic (the axes, u64 count then u32 each, and the key's line); the images of periodic
 // axes are not stored (the sets' owned particles only), a restore rebuilds them
+// 8: each body's translation and rotation (moving walls: law, vectors, numbers, file, line)
 // (older versions are refused with one line).
-inline constexpr std::uint32_t solver_checkpoint_version = 7;
+inline constexpr std::uint32_t solver_checkpoint_version = 8;
 
 void write_case(io::CheckpointWriter& out, const CaseDescription& c);
 CaseDescription read_case(io::CheckpointReader& in);

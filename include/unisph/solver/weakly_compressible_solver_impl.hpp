@@ -5,6 +5,8 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <numbers>
 #include <set>
 #include <sstream>
 
@@ -26,7 +28,9 @@
 #include "unisph/solver/obstacle_particles.hpp"
 #include "unisph/sph/pressure_relaxation.hpp"
 #include "unisph/solver/solver_checkpoint.hpp"
+#include "unisph/sph/moving_walls.hpp"
 #include "unisph/sph/prior_acceleration.hpp"
+#include "unisph/motion/motion_table.hpp"
 #include "unisph/solver/tank_particles.hpp"
 #include "unisph/sph/time_step.hpp"
 #include "unisph/sph/velocity_damping.hpp"
@@ -244,6 +248,8 @@ struct WeaklyCompressibleSolver<T, D>::State {
   static WallFreeBox<T, D> wall_free_of(const CaseDescription& c, const TankParticles<T, D>& p, const Box<T, D>& domain,
                                         double cutoff) {
     if (!c.general()) return WallFreeBox<T, D>::of_tank(c.tank, p.wall, cutoff);
+    for (const BodyDescription& b : c.bodies)
+      if (b.moves()) return WallFreeBox<T, D>::empty();  // the box would have to follow the walls
     const Vector seed = seed_of(p);
     if (c.domain.periodic.empty()) return WallFreeBox<T, D>::around(p.wall, domain.lower, domain.upper, seed, cutoff);
     // Periodic axes: the wall particles and their images (+-L where within 1.1 cutoffs of a
@@ -296,7 +302,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
                           c.free_surface_density == "carried" ? SurfaceDensity::carried
                           : c.free_surface_density == "none" ? SurfaceDensity::none
                                                              : SurfaceDensity::reference),
-        prior_acceleration(fluid, inner, contact, kernel, gravity_of(c), T(c.viscosity), wall_volume, T(c.dx)),
+        prior_acceleration(fluid, wall, inner, contact, kernel, gravity_of(c), T(c.viscosity), wall_volume, T(c.dx)),
         pressure_start(fluid, eos),
         wall_free(wall_free_of(c, particles, domain, double(kernel.cutoff()))),
         pressure_relaxation(fluid, wall, inner, contact, kernel, riemann, wall_volume, wall_free),
@@ -320,8 +326,87 @@ struct WeaklyCompressibleSolver<T, D>::State {
       probes.push_back(std::make_unique<PressureProbe<T, D>>(fluid, kernel, x));
     }
     check_walls_along_periodic_axes(c, particles, domain, wall_groups, double(kernel.cutoff()));
+    make_wall_motions(c);
     initialise();
     if (settle_now) settle();
+  }
+
+  // The law of one motion description (case_description.hpp); angles in degrees become radians.
+  TimeLaw law_of(const MotionDescription& m, bool angle, MemorySpace space, const std::string& where) {
+    const double unit = angle ? std::numbers::pi / 180.0 : 1.0;
+    if (m.law == "constant") return constant_rate_law(Real(m.rate * unit), where);
+    if (m.law == "sinusoid")
+      return sinusoid_law(Real(m.amplitude * unit), Real(m.period), Real(m.phase * std::numbers::pi / 180.0),
+                          Real(m.ramp_periods), Real(m.start), where);
+    MotionTableRows rows = read_motion_table_csv(m.file);
+    for (double& v : rows.value) v *= unit;
+    motion_tables.push_back(std::make_unique<MotionTable>(rows));
+    return motion_tables.back()->law(space);
+  }
+
+  // The prescribed motions of the wall bodies (moving_walls.hpp): motion 0 is rest, then one per
+  // moving body, and each wall particle gets its body's. Nothing is registered, and the kernels
+  // keep their static-wall path, when no body moves. A bad motion is one CaseFileError line.
+  void make_wall_motions(const CaseDescription& c) {
+    bool any = false;
+    for (const BodyDescription& b : c.bodies) any = any || (b.kind == "wall" && b.moves());
+    if (!any) return;
+    if (wall_images) throw CaseFileError(periodic_where(c) + "moving walls are not available in a periodic domain yet");
+    MemorySpace space = MemorySpace::host;
+    visit_policy(policy, [&](auto p) { space = decltype(p)::space; });
+    std::vector<StoredRigidMotion<D>> list{StoredRigidMotion<D>::of(fixed_motion<D>())};
+    std::vector<std::uint32_t> of_group;  // per wall group (the wall bodies in order, then obstacles)
+    const auto vec = [](const std::vector<double>& v) {
+      Vecd<D> x{};
+      for (int a = 0; a < D; ++a) x[a] = Real(v[std::size_t(a)]);
+      return x;
+    };
+    for (const BodyDescription& b : c.bodies) {
+      if (b.kind != "wall") continue;
+      if (!b.moves()) {
+        of_group.push_back(0);
+        continue;
+      }
+      const MotionDescription& m = b.translation.moves() ? b.translation : b.rotation;
+      const std::string key = b.translation.moves() ? "body.translation" : "body.rotation";
+      try {
+        Translation<D> translation = no_translation<D>();
+        Rotation<D> rotation = no_rotation<D>();
+        if (b.translation.moves())
+          translation = make_translation<D>(vec(b.translation.direction), law_of(b.translation, false, space, "law"), "direction");
+        if (b.rotation.moves()) {
+          const TimeLaw law = law_of(b.rotation, true, space, "law");
+          if constexpr (D == 3) {
+            rotation = make_rotation(vec(b.rotation.pivot), vec(b.rotation.axis), law, "axis");
+          } else {
+            rotation = make_rotation(vec(b.rotation.pivot), law, "pivot");
+          }
+        }
+        list.push_back(StoredRigidMotion<D>::of(rigid_motion<D>(translation, rotation)));
+      } catch (const CaseFileError&) {
+        throw;
+      } catch (const Error& e) {
+        throw CaseFileError(c.source + ":" + std::to_string(m.line) + ": key '" + key + "' (body '" + b.name + "'): " + e.what());
+      }
+      of_group.push_back(std::uint32_t(list.size() - 1));
+    }
+    while (of_group.size() < wall_groups.size()) of_group.push_back(0);  // the obstacles
+    motions.assign(list);
+    wall_motion = std::make_unique<WallMotionVariables<T, D>>(wall_body);
+    wall.velocity = &wall_motion->velocity;
+    wall.acceleration = &wall_motion->acceleration;
+    // Ids: the first group's particles, then the second's, ... (the particles are still in that order).
+    View<std::uint32_t> index = wall_motion->motion.write(MemorySpace::host);
+    Index k = 0;
+    for (std::size_t g = 0; g < wall_groups.size(); ++g)
+      for (Index n = 0; n < wall_groups[g].count; ++n) index[k++] = of_group[g];
+    move_walls = std::make_unique<MoveWalls<T, D>>(wall, *wall_motion, motions);
+  }
+
+  // Moving walls: their state at time t (or, while they are held, at rest where they start).
+  template <class P>
+  void place_walls(P p, double t) {
+    if (move_walls && !walls_held) move_walls->exec(p, Real(t));
   }
 
   // The settling stage (case_description.hpp): the run's own steps with the velocity damped,
@@ -333,14 +418,28 @@ struct WeaklyCompressibleSolver<T, D>::State {
     while (time < description.settling_time * (1 - 1e-12)) advance(description.settling_time);
     damping_rate = 0;
     {
+      // The water leaves the settling stage with its initial velocity (the fluid bodies' and
+      // initial_fluid_state's; zero where none was given), as if it had started there.
       View<Vector> v = fluid.velocity.write(MemorySpace::host);
       View<T> drho = fluid.density_change_rate.write(MemorySpace::host);
+      View<const std::uint64_t> id = fluid_body.particles().ids().read(MemorySpace::host);
+      const std::uint64_t first = fluid_body.particles().first_id();
       for (Index i = 0; i < v.size(); ++i) {
-        v[i] = Vector{};
+        v[i] = initial_velocity.empty() ? Vector{} : initial_velocity[id[i] - first];
         drho[i] = T(0);
       }
+      initial_velocity = {};
     }
-    visit_policy(policy, [&](auto p) { refresh_records.exec(p); });
+    visit_policy(policy, [&](auto p) {
+      refresh_records.exec(p);
+      if (move_walls) {
+        // The walls leave their hold: their state at time 0 (a table may start displaced).
+        walls_held = false;
+        place_walls(p, 0.0);
+        build_wall(p);
+        rebuild(p);
+      }
+    });
     settling = {time, advection_steps, acoustic_steps,
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()};
     time = 0;
@@ -381,6 +480,11 @@ struct WeaklyCompressibleSolver<T, D>::State {
                         " velocity components; the case is " + std::to_string(D) + "D");
           for (int a = 0; a < D; ++a) v[i][a] = T(velocity[std::size_t(a)]);
         }
+        if (description.settling_time > 0 && !(v[i] == Vector{})) {
+          if (initial_velocity.empty()) initial_velocity.assign(n, Vector{});
+          initial_velocity[i] = v[i];  // by id: the particles are in id order here
+          v[i] = Vector{};             // the settling starts at rest
+        }
         p[i] = T(pressure);
         rho[i] = eos.density(T(pressure));
         m[i] = rho[i] * wall_volume;
@@ -396,7 +500,25 @@ struct WeaklyCompressibleSolver<T, D>::State {
       }
     }
     particles = {};
+    if (wall_motion) {
+      // The reference state: where each particle is with its motion at rest, at rest.
+      View<const Vector> x = wall.position.read(MemorySpace::host);
+      View<const Vector> nrm = wall.normal.read(MemorySpace::host);
+      View<Vector> x0 = wall_motion->initial_position.write(MemorySpace::host);
+      View<Vector> n0 = wall_motion->initial_normal.write(MemorySpace::host);
+      View<Vector> v = wall_motion->velocity.write(MemorySpace::host);
+      View<Vector> a = wall_motion->acceleration.write(MemorySpace::host);
+      for (Index i = 0; i < x.size(); ++i) {
+        x0[i] = x[i];
+        n0[i] = nrm[i];
+        v[i] = Vector{};
+        a[i] = Vector{};
+      }
+      // Held where they start (at rest) through the settling stage, if there is one.
+      walls_held = description.settling_time > 0;
+    }
     visit_policy(policy, [&](auto p) {
+      place_walls(p, 0.0);
       wall_sorter.sort(p);
       build_wall(p);
       fluid_sorter.sort(p);
@@ -588,6 +710,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
       pressure_start.exec(p, Real(dt));
       for (;;) {
         if (fluid_images) refresh_image_records(p);
+        place_walls(p, time + relaxed + 0.5 * dt);  // moving walls at the acoustic step's middle
         pressure_relaxation.exec(p, Real(dt));
         speed = double(velocity_update_and_max_speed.exec(p, Real(dt)));
         if (damping_rate > 0) velocity_damping.exec(p, Real(std::exp(-damping_rate * dt)));
@@ -609,6 +732,12 @@ struct WeaklyCompressibleSolver<T, D>::State {
       }
       time += relaxed;
       ++advection_steps;
+      if (move_walls && !walls_held) {
+        // Moving walls at the step's end, sorted with the fluid and binned again.
+        place_walls(p, time);
+        if (advection_steps % std::uint64_t(description.sort_every) == 0) wall_sorter.sort(p);
+        wall_cells.build(p);
+      }
       if (fluid_images) fluid_images->wrap(p);  // before the sort: its cells are the box's
       if (advection_steps % std::uint64_t(description.sort_every) == 0) fluid_sorter.sort(p);
       rebuild(p);
@@ -800,6 +929,14 @@ struct WeaklyCompressibleSolver<T, D>::State {
   std::vector<WallBodyCount> wall_groups;  // each wall body's particles, in the order of their ids
   std::vector<Index> obstacle_counts;  // wall particles of each obstacle (after the tank's)
   Index removed_fluid = 0;             // lattice points the obstacles took
+  // Moving walls (moving_walls.hpp; all null / empty when every wall is at rest).
+  std::unique_ptr<WallMotionVariables<T, D>> wall_motion;
+  DiscreteVariable<StoredRigidMotion<D>> motions{"WallMotions"};
+  std::vector<std::unique_ptr<MotionTable>> motion_tables;
+  std::unique_ptr<MoveWalls<T, D>> move_walls;
+  bool walls_held = false;  // through the settling stage
+  // Each fluid particle's initial velocity by id, kept through the settling stage (empty: all zero).
+  std::vector<Vector> initial_velocity;
   std::vector<RelaxedBodyReport> relaxed;  // the bodies made with fill = "relaxed"
   Box<T, D> domain;
   Body<T, D> fluid_body;

@@ -44,6 +44,7 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
     View<const PositionVolume<T, D>> position_volume;  // of the fluid neighbours
     View<const VelocityPressure<T, D>> velocity_pressure;
     View<const Vec<T, D>> prior_acceleration, wall_normal;
+    View<const Vec<T, D>> wall_velocity, wall_acceleration;  // moving walls only (else empty)
     View<const T> density;
     View<T> density_change_rate;
     WendlandC2Kernel<T, D> kernel;
@@ -51,6 +52,7 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
     T wall_volume;
     T dissipation;  // k
     WallFreeBox<T, D> wall_free;  // no wall neighbour inside
+    bool moving_walls;
 
     UNISPH_HOST_DEVICE void interaction(Index i, Real) const {
       const VelocityPressure<T, D> own = velocity_pressure[i];
@@ -72,8 +74,13 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
         contact.for_each_weighted_neighbor(i, derivative, [&](Index w, const NeighborPair<T, D>& pair, T dW) {
           const Vec<T, D>& e = pair.direction();
           const Vec<T, D> n = wall_normal[w];
-          const T p_w = wall_dummy_pressure(p_i, rho_i, a0, pair.r_ij);
-          const T divergence = T(2) * dot(v_i, n) * dot(n, e) + dissipation * riemann.velocity_dissipation(p_i, p_w);
+          Vec<T, D> v_rel = v_i, a_rel = a0;  // relative to the wall (moving_walls.hpp)
+          if (moving_walls) {
+            v_rel -= wall_velocity[w];
+            a_rel -= wall_acceleration[w];
+          }
+          const T p_w = wall_dummy_pressure(p_i, rho_i, a_rel, pair.r_ij);
+          const T divergence = T(2) * dot(v_rel, n) * dot(n, e) + dissipation * riemann.velocity_dissipation(p_i, p_w);
           rate += divergence * dW * wall_volume;
         });
       }
@@ -90,13 +97,16 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
             c.read(fluid_.neighbor_velocity_pressure),
             c.read(fluid_.prior_acceleration),
             c.read(wall_.normal),
+            wall_.velocity_view(c),
+            wall_.acceleration_view(c),
             c.read(fluid_.density),
             c.write(fluid_.density_change_rate),
             kernel_,
             riemann_,
             wall_volume_,
             dissipation_,
-            wall_free_};
+            wall_free_,
+            wall_.moving()};
   }
   Index size() const { return fluid_.size(); }
 

@@ -65,6 +65,10 @@ struct WallVariables {
   ParticleSet& particles;
   DiscreteVariable<Vector>& position;
   DiscreteVariable<Vector>& normal;
+  // Moving walls only (moving_walls.hpp): each particle's velocity and acceleration; null where
+  // every wall is at rest, and the kernels then take v_w = a_w = 0.
+  DiscreteVariable<Vector>* velocity = nullptr;
+  DiscreteVariable<Vector>* acceleration = nullptr;
 
   explicit WallVariables(Body<T, D>& body)
       : particles(body.particles()),
@@ -72,6 +76,15 @@ struct WallVariables {
         normal(body.particles().template add_variable<Vector>("Normal", sortable_output_variable)) {}
 
   Index size() const { return particles.owned_count(); }  // without the images of periodic axes
+  bool moving() const { return velocity != nullptr; }
+
+  // The views of the walls' velocity and acceleration for a kernel (empty for static walls).
+  template <class Context>
+  View<const Vector> velocity_view(Context& c) const { return velocity ? c.read(*velocity) : View<const Vector>{}; }
+  template <class Context>
+  View<const Vector> acceleration_view(Context& c) const {
+    return acceleration ? c.read(*acceleration) : View<const Vector>{};
+  }
 };
 
 }  // namespace unisph::sph

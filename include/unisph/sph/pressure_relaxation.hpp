@@ -77,6 +77,7 @@ class PressureRelaxationStart : public UpdateDynamics<PressureRelaxationStart<T,
 // 2 p*_iw dW_iw V_w e_iw (a_i gets -1/rho_i times the sum over fluid and wall neighbours), with
 // the dummy pressure p_w of wall_dummy_pressure.hpp and the mirrored normal velocity. One
 // function for PressureRelaxation and the wall loads (wall_load.hpp), so they cannot drift apart.
+// v_i and a0_i are relative to the wall (moving_walls.hpp): v_i - v_w and a0_i - a_w.
 template <class T, int D>
 UNISPH_HOST_DEVICE inline Vec<T, D> wall_pressure_term(const AcousticRiemannSolver<T>& riemann, T p_i, T rho_i,
                                                        const Vec<T, D>& v_i, const Vec<T, D>& a0_i,
@@ -107,12 +108,14 @@ class PressureRelaxation : public InteractionDynamics<PressureRelaxation<T, D>> 
     View<const PositionVolume<T, D>> position_volume;  // of the fluid neighbours
     View<const VelocityPressure<T, D>> velocity_pressure;
     View<const Vec<T, D>> prior_acceleration, wall_normal;
+    View<const Vec<T, D>> wall_velocity, wall_acceleration;  // moving walls only (else empty)
     View<const T> density;
     View<Vec<T, D>> acceleration;
     WendlandC2Kernel<T, D> kernel;
     AcousticRiemannSolver<T> riemann;
     T wall_volume;
     WallFreeBox<T, D> wall_free;  // no wall neighbour inside
+    bool moving_walls;
 
     UNISPH_HOST_DEVICE void interaction(Index i, Real) const {
       const VelocityPressure<T, D> own = velocity_pressure[i];
@@ -132,7 +135,11 @@ class PressureRelaxation : public InteractionDynamics<PressureRelaxation<T, D>> 
       if (contact.uses_stored_lists() || !wall_free.contains(position_volume[i].position)) {
         const Vec<T, D> a0 = prior_acceleration[i];
         contact.for_each_weighted_neighbor(i, derivative, [&](Index w, const NeighborPair<T, D>& pair, T dW) {
-          force += wall_pressure_term(riemann, p_i, rho_i, v_i, a0, wall_normal[w], pair, dW, wall_volume);
+          if (moving_walls)
+            force += wall_pressure_term(riemann, p_i, rho_i, Vec<T, D>(v_i - wall_velocity[w]),
+                                        Vec<T, D>(a0 - wall_acceleration[w]), wall_normal[w], pair, dW, wall_volume);
+          else
+            force += wall_pressure_term(riemann, p_i, rho_i, v_i, a0, wall_normal[w], pair, dW, wall_volume);
         });
       }
       acceleration[i] = force * (-T(1) / rho_i);
@@ -148,12 +155,15 @@ class PressureRelaxation : public InteractionDynamics<PressureRelaxation<T, D>> 
             c.read(fluid_.neighbor_velocity_pressure),
             c.read(fluid_.prior_acceleration),
             c.read(wall_.normal),
+            wall_.velocity_view(c),
+            wall_.acceleration_view(c),
             c.read(fluid_.density),
             c.write(fluid_.acceleration),
             kernel_,
             riemann_,
             wall_volume_,
-            wall_free_};
+            wall_free_,
+            wall_.moving()};
   }
   Index size() const { return fluid_.size(); }
 

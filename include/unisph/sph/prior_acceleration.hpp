@@ -20,9 +20,10 @@ namespace unisph::sph {
 template <class T, int D>
 class PriorAcceleration : public InteractionDynamics<PriorAcceleration<T, D>> {
  public:
-  PriorAcceleration(FluidVariables<T, D>& fluid, InnerRelation<T, D>& inner, ContactRelation<T, D>& contact,
-                    WendlandC2Kernel<T, D> kernel, Vec<T, D> gravity, T viscosity, T wall_volume, T dx)
-      : fluid_(fluid), inner_(inner), contact_(contact), kernel_(kernel), gravity_(gravity),
+  PriorAcceleration(FluidVariables<T, D>& fluid, WallVariables<T, D>& wall, InnerRelation<T, D>& inner,
+                    ContactRelation<T, D>& contact, WendlandC2Kernel<T, D> kernel, Vec<T, D> gravity, T viscosity,
+                    T wall_volume, T dx)
+      : fluid_(fluid), wall_(wall), inner_(inner), contact_(contact), kernel_(kernel), gravity_(gravity),
         viscosity_(viscosity / kernel.lattice_laplacian_moment(dx, regularisation(kernel))), wall_volume_(wall_volume) {}
 
   UNISPH_HOST_DEVICE static T regularisation(const WendlandC2Kernel<T, D>& kernel) { return T(0.01) * kernel.h; }
@@ -32,11 +33,13 @@ class PriorAcceleration : public InteractionDynamics<PriorAcceleration<T, D>> {
     static constexpr int min_blocks_per_multiprocessor = sizeof(T) == 4 ? 5 : 3;
     NeighborSearch<T, D> inner, contact;
     View<const Vec<T, D>> velocity;
+    View<const Vec<T, D>> wall_velocity;  // moving walls only (moving_walls.hpp; else empty)
     View<const T> density, mass;
     View<Vec<T, D>> prior_acceleration;
     WendlandC2Kernel<T, D> kernel;
     Vec<T, D> gravity;
     T viscosity, wall_volume;  // viscosity: mu / M (above)
+    bool moving_walls;
 
     UNISPH_HOST_DEVICE void interaction(Index i, Real) const {
       Vec<T, D> a = gravity;
@@ -48,13 +51,15 @@ class PriorAcceleration : public InteractionDynamics<PriorAcceleration<T, D>> {
           const T r = p.distance();
           sum += (v_i - velocity[j]) * (kernel.derivative(r) * mass[j] / density[j] / (r + regularisation));
         });
-        contact.for_each_neighbor(i, [&](Index, const NeighborPair<T, D>& p) {
+        contact.for_each_neighbor(i, [&](Index w, const NeighborPair<T, D>& p) {
           const T r = p.distance();
           // No slip by the mirror velocity v_w = -v_i (SPHinXsys' ViscousForce with a wall:
           // 2 (v_i - v_w,average)): the zero-velocity surface lies at the wall's face, between the
           // fluid's first layer and the wall's; with v_w = 0 it lay about 0.7 dx inside the wall
           // (Poiseuille flow: 14 % too fast at 20 particles across).
-          sum += v_i * (T(2) * kernel.derivative(r) * wall_volume / (r + regularisation));
+          // A moving wall's mirror velocity is 2 v_w - v_i (moving_walls.hpp).
+          const Vec<T, D> v_rel = moving_walls ? Vec<T, D>(v_i - wall_velocity[w]) : v_i;
+          sum += v_rel * (T(2) * kernel.derivative(r) * wall_volume / (r + regularisation));
         });
         a += sum * (T(2) * viscosity / density[i]);
       }
@@ -64,13 +69,15 @@ class PriorAcceleration : public InteractionDynamics<PriorAcceleration<T, D>> {
   static_assert(std::is_trivially_copyable_v<Kernel>, "Kernels are copied to the device byte for byte.");
 
   Kernel make_kernel(KernelContext& c) {
-    return {inner_.search(c), contact_.search(c), c.read(fluid_.velocity), c.read(fluid_.density), c.read(fluid_.mass),
-            c.write(fluid_.prior_acceleration), kernel_, gravity_, viscosity_, wall_volume_};
+    return {inner_.search(c),      contact_.search(c),      c.read(fluid_.velocity),
+            wall_.velocity_view(c), c.read(fluid_.density), c.read(fluid_.mass),
+            c.write(fluid_.prior_acceleration), kernel_, gravity_, viscosity_, wall_volume_, wall_.moving()};
   }
   Index size() const { return fluid_.size(); }
 
  private:
   FluidVariables<T, D>& fluid_;
+  WallVariables<T, D>& wall_;
   InnerRelation<T, D>& inner_;
   ContactRelation<T, D>& contact_;
   WendlandC2Kernel<T, D> kernel_;

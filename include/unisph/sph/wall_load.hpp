@@ -15,8 +15,8 @@
 //
 // A wall particle's body comes from its id: the wall set's ids are the first body's (ids
 // first_id .. first_id + count_0 - 1), then the second's, ... (the solver's wall_bodies()).
-// The walls are static: the wall velocity is zero (the mirrored normal velocity of
-// PressureRelaxation). Not included: the viscous force of the walls (PriorAcceleration's wall
+// Moving walls (moving_walls.hpp) enter as in PressureRelaxation: the fluid's velocity and prior
+// acceleration relative to the wall's. Not included: the viscous force of the walls (PriorAcceleration's wall
 // term where fluid.viscosity > 0): it is summed into the prior acceleration with the fluid's
 // own viscous term and not stored apart.
 //
@@ -81,6 +81,7 @@ class WallLoadTerms : public InteractionDynamics<WallLoadTerms<T, D>> {
   struct Kernel {
     NeighborSearch<T, D> contact;
     View<const Vec<T, D>> position, velocity, prior_acceleration, wall_normal;
+    View<const Vec<T, D>> wall_velocity, wall_acceleration;  // moving walls only (else empty)
     View<const T> density, pressure, mass;
     View<const std::uint64_t> wall_id, body_end;  // body b holds the ids below body_end[b]
     View<WallLoadRecord<T, D>> terms;
@@ -88,6 +89,7 @@ class WallLoadTerms : public InteractionDynamics<WallLoadTerms<T, D>> {
     AcousticRiemannSolver<T> riemann;
     T wall_volume;
     Vec<T, D> moment_point;
+    bool moving_walls;
 
     UNISPH_HOST_DEVICE void interaction(Index i, Real) const {
       const Index bodies = body_end.size();
@@ -100,7 +102,10 @@ class WallLoadTerms : public InteractionDynamics<WallLoadTerms<T, D>> {
       const PairKernelDerivative<T, D> derivative{kernel};
       // Per body, the sum of the terms PressureRelaxation adds for the same neighbours.
       contact.for_each_weighted_neighbor(i, derivative, [&](Index w, const NeighborPair<T, D>& pair, T dW) {
-        const Vec<T, D> term = wall_pressure_term(riemann, p_i, rho_i, v_i, a0, wall_normal[w], pair, dW, wall_volume);
+        const Vec<T, D> term =
+            moving_walls ? wall_pressure_term(riemann, p_i, rho_i, Vec<T, D>(v_i - wall_velocity[w]),
+                                              Vec<T, D>(a0 - wall_acceleration[w]), wall_normal[w], pair, dW, wall_volume)
+                         : wall_pressure_term(riemann, p_i, rho_i, v_i, a0, wall_normal[w], pair, dW, wall_volume);
         const std::uint64_t id = wall_id[w];
         Index b = 0;
         while (b + 1 < bodies && id >= body_end[b]) ++b;
@@ -125,6 +130,8 @@ class WallLoadTerms : public InteractionDynamics<WallLoadTerms<T, D>> {
             c.read(fluid_.velocity),
             c.read(fluid_.prior_acceleration),
             c.read(wall_.normal),
+            wall_.velocity_view(c),
+            wall_.acceleration_view(c),
             c.read(fluid_.density),
             c.read(fluid_.pressure),
             c.read(fluid_.mass),
@@ -134,7 +141,8 @@ class WallLoadTerms : public InteractionDynamics<WallLoadTerms<T, D>> {
             kernel_,
             riemann_,
             wall_volume_,
-            moment_point_};
+            moment_point_,
+            wall_.moving()};
   }
   Index size() const { return fluid_.size(); }
 
