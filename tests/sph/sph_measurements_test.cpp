@@ -483,10 +483,12 @@ TYPED_TEST(Measurements, DampingZoneDecaysAUniformFieldAtItsRate) {
       V<2> expected = v0;
       const double factor = damping_factor(xi, beta, dt, form);
       for (int n = 0; n < steps; ++n) expected = expected * factor;
+      // The exponential form on the GPU: the device's exp, within 64 ulp after 40 steps.
       const bool exact = form == DampingForm::linear || TypeParam::space == MemorySpace::host;
-      if (exact ? v[i] != expected
-                : std::abs(v[i][0] - expected[0]) > 64 * std::numeric_limits<double>::epsilon() * std::abs(expected[0]))
-        ++mismatched;
+      const auto close = [&](int a) {
+        return std::abs(v[i][a] - expected[a]) <= 64 * std::numeric_limits<double>::epsilon() * std::abs(expected[a]);
+      };
+      if (exact ? v[i] != expected : !(close(0) && close(1))) ++mismatched;
       // The documented rate: v = v0 exp(-beta xi^2 t), the linear form within (beta xi^2)^2 dt t / 2.
       const double rate = beta * xi * xi;
       const double deviation = std::abs(v[i][0] / v0[0] - std::exp(-rate * t));
