@@ -168,6 +168,42 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
     for (const auto& p : description.probes) observers << ",p_" << p.name << ",p_star_" << p.name;
     observers << "\n";
   }
+  // report.loads: one row per advection step (the mean over its acoustic steps), the same steps as
+  // the observers' rows after their first (t = 0). Columns <body>_fx, _fy(, _fz), then the moment
+  // about report.moment_point: <body>_mz in 2D, <body>_mx, _my, _mz in 3D.
+  const bool with_loads = description.loads;
+  const bool continue_loads = with_loads && restarted && fs::exists(dir / "loads.csv");
+  if (continue_loads) keep_observer_rows(dir / "loads.csv", run.observer_rows > 0 ? run.observer_rows - 1 : 0);
+  std::ofstream loads;
+  std::vector<double> largest_force(solver.wall_bodies().size(), 0.0);
+  if (with_loads) {
+    loads.open(dir / "loads.csv", continue_loads ? std::ios::app : std::ios::trunc);
+    loads.precision(10);
+    if (!continue_loads) {
+      loads << "# case " << description.name << ": each wall body's force and moment about (";
+      for (int a = 0; a < D; ++a) loads << (a ? ", " : "") << description.moment_point[std::size_t(a)];
+      loads << "), the mean over each advection step's acoustic steps\ntime";
+      for (const sph::WallBodyCount& b : solver.wall_bodies()) {
+        for (int a = 0; a < D; ++a) loads << ',' << b.name << "_f" << "xyz"[a];
+        if (D == 2) loads << ',' << b.name << "_mz";
+        else for (int a = 0; a < 3; ++a) loads << ',' << b.name << "_m" << "xyz"[a];
+      }
+      loads << "\n";
+    }
+  }
+  auto record_loads = [&] {
+    if (!with_loads) return;
+    const std::vector<sph::WallLoadSample>& l = solver.loads();
+    loads << solver.time();
+    for (std::size_t b = 0; b < l.size(); ++b) {
+      double squared = 0;
+      for (double f : l[b].force) loads << ',' << f, squared += f * f;
+      for (double m : l[b].moment) loads << ',' << m;
+      largest_force[b] = std::max(largest_force[b], std::sqrt(squared));
+    }
+    loads << '\n';
+  };
+
   auto record = [&] {
     ++run.observer_rows;
     const sph::ObserverSample s = solver.observe();
@@ -204,6 +240,9 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
     const std::vector<std::uint64_t> ids = owned(wall.ids().to_vector(), wall_count);
     const std::vector<Vec<T, D>> positions = owned(solver.wall_body().positions().to_vector(), wall_count);
     const std::vector<Vec<T, D>> normals = owned(wall.template variable<Vec<T, D>>("Normal").to_vector(), wall_count);
+    const std::vector<Vec<T, D>> wall_velocity =
+        wall.variables().contains("Velocity") ? owned(wall.template variable<Vec<T, D>>("Velocity").to_vector(), wall_count)
+                                              : std::vector<Vec<T, D>>{};
     std::vector<std::uint64_t> first(bodies.size() + 1, wall.first_id());
     for (std::size_t k = 0; k < bodies.size(); ++k) first[k + 1] = first[k] + bodies[k].count;
     for (std::size_t k = 0; k < bodies.size(); ++k) {
@@ -214,6 +253,12 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
       std::vector<io::PointArray> wall_arrays;
       wall_arrays.push_back(io::PointArray::from("ParticleId", 1, id));
       wall_arrays.push_back(vector_array<T, D>("Normal", n));
+      if (!wall_velocity.empty()) {  // moving walls
+        std::vector<Vec<T, D>> v;
+        for (std::size_t i = 0; i < ids.size(); ++i)
+          if (ids[i] >= first[k] && ids[i] < first[k + 1]) v.push_back(wall_velocity[i]);
+        wall_arrays.push_back(vector_array<T, D>("Velocity", v));
+      }
       const std::string wall_file = bodies[k].name + suffix;
       io::write_vtp(dir / wall_file, as_points<T, D>(x), wall_arrays);
       run.collection.push_back({solver.time(), int(k + 1), wall_file});
@@ -244,6 +289,7 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
       const double until = std::min(run.next_output, end_time);
       solver.advance(until);
       record();
+      record_loads();
       if (solver.time() >= until * (1 - 1e-12)) {
         write_snapshot();
         run.next_output += description.output_interval;
@@ -281,6 +327,17 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
   if (const sph::SettlingReport& settled = solver.settling(); settled.advection_steps > 0)
     log << "\nsettling before t = 0: " << settled.time << " time units, " << settled.advection_steps
         << " advection and " << settled.acoustic_steps << " acoustic steps, " << settled.seconds << " s";
+  if (with_loads) {
+    loads.close();
+    const std::vector<sph::WallLoadSample>& l = solver.loads();
+    for (std::size_t b = 0; b < l.size() && b < solver.wall_bodies().size(); ++b) {
+      log << "\nloads on " << solver.wall_bodies()[b].name << " (loads.csv): force at the end (";
+      for (std::size_t a = 0; a < l[b].force.size(); ++a) log << (a ? ", " : "") << l[b].force[a];
+      log << "), moment (";
+      for (std::size_t a = 0; a < l[b].moment.size(); ++a) log << (a ? ", " : "") << l[b].moment[a];
+      log << "), largest |force| " << largest_force[b];
+    }
+  }
   log
       << "\nsimulated time: " << solver.time() << " of " << end_time
       << "\nadvection steps: " << solver.advection_steps() << "\nacoustic steps: " << solver.acoustic_steps()

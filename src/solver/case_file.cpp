@@ -709,11 +709,21 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
   c.cells_per_cutoff = int(cells_per_cutoff);
 
   const toml::table& report = r.table(root, "report", false);
-  r.only_keys(report, "report.", {"length", "time", "pressure"});
+  r.only_keys(report, "report.", {"length", "time", "pressure", "loads", "moment_point"});
   const double unit = 1;
   c.length_scale = r.positive(report, "report.", "length", &unit);
   c.time_scale = r.positive(report, "report.", "time", &unit);
   c.pressure_scale = r.positive(report, "report.", "pressure", &unit);
+  // report.loads = true: every wall body's force and moment (about report.moment_point) to loads.csv.
+  if (const toml::node* node = report.get("loads")) {
+    if (!node->is_boolean())
+      r.fail(node, "report.loads", std::string("must be true or false (it is a ") + Reader::type_name(*node) + ")");
+    c.loads = node->as_boolean()->get();
+  }
+  c.moment_point = report.get("moment_point") ? r.vector(report, "report.", "moment_point", c.dimension, false)
+                                              : std::vector<double>(std::size_t(c.dimension), 0.0);
+  if (report.get("moment_point") && !c.loads)
+    r.fail(report.get("moment_point"), "report.moment_point", "is read only with report.loads = true");
 
   if (const toml::node* probes = root.get("probe")) {
     const toml::array* list = probes->as_array();

@@ -58,6 +58,8 @@ void write_case(io::CheckpointWriter& out, const CaseDescription& c) {
   out.f64(c.length_scale);
   out.f64(c.time_scale);
   out.f64(c.pressure_scale);
+  out.u32(c.loads ? 1 : 0);
+  out.f64s(c.moment_point);
   out.u64(c.probes.size());
   for (const ProbeDescription& p : c.probes) {
     out.string(p.name);
@@ -133,6 +135,8 @@ CaseDescription read_case(io::CheckpointReader& in) {
   c.length_scale = in.f64();
   c.time_scale = in.f64();
   c.pressure_scale = in.f64();
+  c.loads = in.u32() != 0;
+  c.moment_point = in.f64s();
   const std::uint64_t probes = in.u64();
   if (probes > 100000) in.fail("holds " + std::to_string(probes) + " probes (damaged case section)");
   for (std::uint64_t k = 0; k < probes; ++k) {

@@ -230,6 +230,45 @@ TYPED_TEST(HydrostaticLoads, BoxTank2D) {
   EXPECT_NEAR(-floor.force[1] / weight, 1.0, 0.01);
 }
 
+// The same tank through the solver's own loads (report.loads, what loads.csv holds): each
+// advection step's mean over its acoustic steps, averaged over the steps of t = 0..2 weighted by
+// their durations; and the moment of the left wall about the floor's corner, rho g d^3 / 6.
+TYPED_TEST(HydrostaticLoads, BoxTank2DThroughSolverLoads) {
+  const double dx = 1.0 / 20, width = 2.0, window = 2.0;
+  const std::string text = box_tank_2d(dx, width, 20.0) + "[report]\nloads = true\nmoment_point = [0.0, 0.0]\n";
+  WeaklyCompressibleSolver<double, 2> solver(parse_case(text, "hydrostatic_loads_box_2d.toml"), kind_of<TypeParam>());
+  const std::vector<WallBodyCount>& bodies = solver.wall_bodies();
+  ASSERT_EQ(bodies.size(), 3u);
+  std::vector<std::vector<double>> force(bodies.size(), std::vector<double>(2, 0.0));
+  std::vector<double> moment(bodies.size(), 0.0);
+  double covered = 0;
+  while (solver.time() < window * (1 - 1e-12)) {
+    const double before = solver.time();
+    solver.advance(window);
+    const double dt = solver.time() - before;
+    const std::vector<WallLoadSample>& l = solver.loads();
+    ASSERT_EQ(l.size(), bodies.size());
+    for (std::size_t b = 0; b < l.size(); ++b) {
+      for (int a = 0; a < 2; ++a) force[b][std::size_t(a)] += dt * l[b].force[std::size_t(a)];
+      moment[b] += dt * l[b].moment[0];
+    }
+    covered += dt;
+  }
+  const double weight = solver.observe().mass, side = 0.5, turning = 1.0 / 6;
+  const double left = -force[1][0] / covered, right = force[2][0] / covered, floor = -force[0][1] / covered;
+  const double left_moment = moment[1] / covered;
+  std::printf("%s 2D box tank through report.loads (d/dx = %g): left %.6f (%+.2f %%), right %.6f (%+.2f %%) against "
+              "1/2 rho g d^2 (2 %%); floor %.6f (%+.2f %%) against the weight %.6f (1 %%); left wall's moment about "
+              "the floor's corner %.6f (%+.2f %%) against rho g d^3 / 6 (3 %%)\n",
+              std::string(TypeParam::test_label).c_str(), 1 / dx, left, 100 * (left / side - 1), right,
+              100 * (right / side - 1), floor, 100 * (floor / weight - 1), weight, left_moment,
+              100 * (left_moment / turning - 1));
+  EXPECT_NEAR(left / side, 1.0, 0.02);
+  EXPECT_NEAR(right / side, 1.0, 0.02);
+  EXPECT_NEAR(floor / weight, 1.0, 0.01);
+  EXPECT_NEAR(left_moment / turning, 1.0, 0.03);
+}
+
 TYPED_TEST(HydrostaticLoads, DISABLED_SlopingSide2D) {
   const double dx = 1.0 / 20, window = 2.0;
   const Timer timer;

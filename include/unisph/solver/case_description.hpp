@@ -178,6 +178,10 @@ struct CaseDescription {
   double length_scale = 1;
   double time_scale = 1;
   double pressure_scale = 1;
+  // report.loads: every wall body's force and moment about moment_point (D values), the mean over
+  // each advection step's acoustic steps, to loads.csv (solver: loads()).
+  bool loads = false;
+  std::vector<double> moment_point;
   // [[probe]]
   std::vector<ProbeDescription> probes;
   // [[obstacle]]

@@ -27,7 +27,8 @@ namespace unisph::sph {
 // 6: the general form (gravity vector, free surface, domain, shapes, bodies) and fluid removed from the domain
 // 7: domain.periodic (the axes, u64 count then u32 each, and the key's line); the images of periodic
 // axes are not stored (the sets' owned particles only), a restore rebuilds them
-// 8: each body's translation and rotation (moving walls: law, vectors, numbers, file, line)
+// 8: each body's translation and rotation (moving walls: law, vectors, numbers, file, line), and
+// report.loads (u32) and report.moment_point (f64s) after report.pressure
 // (older versions are refused with one line).
 inline constexpr std::uint32_t solver_checkpoint_version = 8;
 

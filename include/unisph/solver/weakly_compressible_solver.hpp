@@ -55,6 +55,12 @@ struct WallBodyCount {
   Index count = 0;
 };
 
+// One wall body's load (report.loads): the force (D components) and the moment about
+// report.moment_point (one component, about z, in 2D; three in 3D), from the fluid's pressure.
+struct WallLoadSample {
+  std::vector<double> force, moment;
+};
+
 // What the settling stage before time 0 took (case_description.hpp, initial.settling_time).
 struct SettlingReport {
   double time = 0;  // simulated
@@ -96,6 +102,10 @@ class WeaklyCompressibleSolver {
   const std::vector<WallBodyCount>& wall_bodies() const;
   // The bodies made with fill = "relaxed" (general form), with the relaxation's final error.
   const std::vector<RelaxedBodyReport>& relaxed_bodies() const;
+  // report.loads: each wall body's force and moment (about report.moment_point), in the order of
+  // wall_bodies(), the mean over the acoustic steps of the last advection step (weighted by their
+  // time steps); empty without report.loads or before the first step.
+  const std::vector<WallLoadSample>& loads() const;
   // Fluid particles removed since the start because they left the domain (domain.leaving =
   // "remove"), and their mass.
   Index left_domain_count() const;

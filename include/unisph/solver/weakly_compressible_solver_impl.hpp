@@ -29,6 +29,7 @@
 #include "unisph/sph/pressure_relaxation.hpp"
 #include "unisph/solver/solver_checkpoint.hpp"
 #include "unisph/sph/moving_walls.hpp"
+#include "unisph/sph/wall_load.hpp"
 #include "unisph/sph/prior_acceleration.hpp"
 #include "unisph/motion/motion_table.hpp"
 #include "unisph/solver/tank_particles.hpp"
@@ -327,6 +328,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
     }
     check_walls_along_periodic_axes(c, particles, domain, wall_groups, double(kernel.cutoff()));
     make_wall_motions(c);
+    if (c.loads) make_wall_load(c);
     initialise();
     if (settle_now) settle();
   }
@@ -401,6 +403,41 @@ struct WeaklyCompressibleSolver<T, D>::State {
     for (std::size_t g = 0; g < wall_groups.size(); ++g)
       for (Index n = 0; n < wall_groups[g].count; ++n) index[k++] = of_group[g];
     move_walls = std::make_unique<MoveWalls<T, D>>(wall, *wall_motion, motions);
+  }
+
+  // report.loads: the loads on every wall body (sph/wall_load.hpp), through the solver's own
+  // contact relation, evaluated after each pressure relaxation.
+  void make_wall_load(const CaseDescription& c) {
+    if (wall_groups.empty() || wall_body.particles().owned_count() == 0)
+      throw CaseFileError(c.source + ": key 'report.loads': the case has no wall body to load");
+    std::vector<Index> counts;
+    for (const WallBodyCount& g : wall_groups) counts.push_back(g.count);
+    Vector point{};
+    for (int a = 0; a < D; ++a) point[a] = T(c.moment_point.empty() ? 0.0 : c.moment_point[std::size_t(a)]);
+    wall_load = std::make_unique<WallLoad<T, D>>(fluid, wall, wall_body.particles().ids(), wall_body.particles().first_id(),
+                                                 counts, contact, kernel, riemann, wall_volume, point);
+  }
+  // Adds dt times the loads of the current state (after a pressure relaxation) to the step's sum.
+  template <class P>
+  void sample_loads(P p, double dt) {
+    if (!wall_load) return;
+    const std::vector<WallBodyLoad<T, D>> now = wall_load->exec(p);
+    if (load_sum.size() != now.size()) load_sum.assign(now.size(), WallBodyLoad<double, D>{});
+    for (std::size_t b = 0; b < now.size(); ++b) {
+      for (int a = 0; a < D; ++a) load_sum[b].force[a] += dt * double(now[b].force[a]);
+      for (int a = 0; a < moment_components<D>; ++a) load_sum[b].moment[a] += dt * double(now[b].moment[a]);
+    }
+    load_time += dt;
+  }
+  void finish_loads() {
+    if (!wall_load || !(load_time > 0)) return;
+    step_loads.assign(load_sum.size(), WallLoadSample{});
+    for (std::size_t b = 0; b < load_sum.size(); ++b) {
+      for (int a = 0; a < D; ++a) step_loads[b].force.push_back(load_sum[b].force[a] / load_time);
+      for (int a = 0; a < moment_components<D>; ++a) step_loads[b].moment.push_back(load_sum[b].moment[a] / load_time);
+    }
+    load_sum.assign(load_sum.size(), WallBodyLoad<double, D>{});
+    load_time = 0;
   }
 
   // Moving walls: their state at time t (or, while they are held, at rest where they start).
@@ -712,6 +749,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
         if (fluid_images) refresh_image_records(p);
         place_walls(p, time + relaxed + 0.5 * dt);  // moving walls at the acoustic step's middle
         pressure_relaxation.exec(p, Real(dt));
+        sample_loads(p, dt);
         speed = double(velocity_update_and_max_speed.exec(p, Real(dt)));
         if (damping_rate > 0) velocity_damping.exec(p, Real(std::exp(-damping_rate * dt)));
         if (fluid_images) refresh_image_records(p);
@@ -732,6 +770,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
       }
       time += relaxed;
       ++advection_steps;
+      finish_loads();
       if (move_walls && !walls_held) {
         // Moving walls at the step's end, sorted with the fluid and binned again.
         place_walls(p, time);
@@ -935,6 +974,12 @@ struct WeaklyCompressibleSolver<T, D>::State {
   std::vector<std::unique_ptr<MotionTable>> motion_tables;
   std::unique_ptr<MoveWalls<T, D>> move_walls;
   bool walls_held = false;  // through the settling stage
+  // report.loads: the wall loads, their dt-weighted sum over the acoustic steps of the current
+  // advection step, and the mean over the last one.
+  std::unique_ptr<WallLoad<T, D>> wall_load;
+  std::vector<WallBodyLoad<double, D>> load_sum;
+  std::vector<WallLoadSample> step_loads;
+  double load_time = 0;
   // Each fluid particle's initial velocity by id, kept through the settling stage (empty: all zero).
   std::vector<Vector> initial_velocity;
   std::vector<RelaxedBodyReport> relaxed;  // the bodies made with fill = "relaxed"
@@ -1014,6 +1059,8 @@ template <class T, int D>
 const std::vector<WallBodyCount>& WeaklyCompressibleSolver<T, D>::wall_bodies() const { return state_->wall_groups; }
 template <class T, int D>
 const std::vector<RelaxedBodyReport>& WeaklyCompressibleSolver<T, D>::relaxed_bodies() const { return state_->relaxed; }
+template <class T, int D>
+const std::vector<WallLoadSample>& WeaklyCompressibleSolver<T, D>::loads() const { return state_->step_loads; }
 template <class T, int D>
 Index WeaklyCompressibleSolver<T, D>::left_domain_count() const { return state_->removed_particles; }
 template <class T, int D>
