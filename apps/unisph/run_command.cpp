@@ -166,6 +166,7 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
               << "\n";
     observers << "time,time_star,front,front_star,kinetic_energy,potential_energy,mass";
     for (const auto& p : description.probes) observers << ",p_" << p.name << ",p_star_" << p.name;
+    for (const auto& g : description.gauges) observers << ",gauge_" << g.name;
     observers << "\n";
   }
   // report.loads: one row per advection step (the mean over its acoustic steps), the same steps as
@@ -211,6 +212,7 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
               << s.front / description.length_scale << ',' << s.kinetic_energy << ',' << s.potential_energy << ','
               << s.mass;
     for (double p : s.probe_pressure) observers << ',' << p << ',' << p / description.pressure_scale;
+    for (double g : s.gauge_elevation) observers << ',' << g;
     observers << '\n';
   };
 

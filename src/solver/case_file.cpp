@@ -582,7 +582,7 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
   }
   Reader r{source};
   r.only_keys(root, "", {"case", "geometry", "domain", "shape", "body", "fluid", "physics", "initial", "time", "report",
-                         "probe", "obstacle"});
+                         "probe", "gauge", "obstacle"});
   CaseDescription c;
   c.source = source;
 
@@ -738,6 +738,32 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
           r.fail(p.get("name"), "probe.name", "use letters, digits, '_', '.' or '-' (it names a CSV column)");
       probe.position = r.vector(p, "probe.", "position", c.dimension, false);
       c.probes.push_back(probe);
+    }
+  }
+
+  // [[gauge]]: wave gauges (their lines must lie in the domain; the levels are checked against the
+  // gravity vector when the solver makes them).
+  if (const toml::node* gauges = root.get("gauge")) {
+    const toml::array* list = gauges->as_array();
+    if (!list || !list->is_array_of_tables()) r.fail(gauges, "gauge", "must be an array of tables [[gauge]]");
+    for (const toml::node& node : *list) {
+      const toml::table& g = *node.as_table();
+      r.only_keys(g, "gauge.", {"name", "position", "bottom", "top"});
+      GaugeDescription gauge;
+      gauge.line = int(g.source().begin.line);
+      gauge.name = r.text(g, "gauge.", "name", nullptr);
+      if (!valid_name(gauge.name)) r.fail(g.get("name"), "gauge.name", "use letters, digits, '_', '.' or '-' (it names a CSV column)");
+      for (const GaugeDescription& other : c.gauges)
+        if (other.name == gauge.name) r.fail(g.get("name"), "gauge.name", "'" + gauge.name + "' names two gauges");
+      gauge.position = r.vector(g, "gauge.", "position", c.dimension, false);
+      gauge.bottom = r.number(g, "gauge.", "bottom", nullptr);
+      gauge.top = r.number(g, "gauge.", "top", nullptr);
+      if (!(gauge.top > gauge.bottom)) r.fail(g.get("top"), "gauge.top", "must be above gauge.bottom");
+      if (!c.domain.lower.empty())
+        for (int a = 0; a < c.dimension; ++a)
+          if (gauge.position[std::size_t(a)] < c.domain.lower[std::size_t(a)] || gauge.position[std::size_t(a)] > c.domain.upper[std::size_t(a)])
+            r.fail(g.get("position"), "gauge.position", "lies outside the domain (along axis " + std::to_string(a) + ")");
+      c.gauges.push_back(gauge);
     }
   }
 

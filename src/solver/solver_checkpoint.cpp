@@ -65,6 +65,14 @@ void write_case(io::CheckpointWriter& out, const CaseDescription& c) {
     out.string(p.name);
     out.f64s(p.position);
   }
+  out.u64(c.gauges.size());
+  for (const GaugeDescription& g : c.gauges) {
+    out.string(g.name);
+    out.f64s(g.position);
+    out.f64(g.bottom);
+    out.f64(g.top);
+    out.u32(std::uint32_t(g.line));
+  }
   out.u64(c.obstacles.size());
   for (const ObstacleDescription& o : c.obstacles) {
     out.string(o.file);
@@ -144,6 +152,17 @@ CaseDescription read_case(io::CheckpointReader& in) {
     p.name = in.string();
     p.position = in.f64s();
     c.probes.push_back(p);
+  }
+  const std::uint64_t gauges = in.u64();
+  if (gauges > 100000) in.fail("holds " + std::to_string(gauges) + " gauges (damaged case section)");
+  for (std::uint64_t k = 0; k < gauges; ++k) {
+    GaugeDescription g;
+    g.name = in.string();
+    g.position = in.f64s();
+    g.bottom = in.f64();
+    g.top = in.f64();
+    g.line = int(in.u32());
+    c.gauges.push_back(g);
   }
   const std::uint64_t obstacles = in.u64();
   if (obstacles > 100000) in.fail("holds " + std::to_string(obstacles) + " obstacles (damaged case section)");

@@ -22,6 +22,15 @@ struct ProbeDescription {
   std::vector<double> position;
 };
 
+// [[gauge]]: a wave gauge (sph/wave_gauge.hpp): the free-surface elevation on the line through
+// `position` along -gravity, between the levels `bottom` and `top` (measured along -gravity).
+struct GaugeDescription {
+  std::string name;
+  std::vector<double> position;
+  double bottom = 0, top = 0;
+  int line = 0;
+};
+
 // A static body from a particle file of `unisph generate` (sph/obstacle_particles.hpp):
 // [[obstacle]] file = "cylinder.vtp" (relative to the case file), translation = [x, y(, z)].
 struct ObstacleDescription {
@@ -184,6 +193,8 @@ struct CaseDescription {
   std::vector<double> moment_point;
   // [[probe]]
   std::vector<ProbeDescription> probes;
+  // [[gauge]]
+  std::vector<GaugeDescription> gauges;
   // [[obstacle]]
   std::vector<ObstacleDescription> obstacles;
 

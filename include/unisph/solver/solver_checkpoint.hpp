@@ -28,7 +28,8 @@ namespace unisph::sph {
 // 7: domain.periodic (the axes, u64 count then u32 each, and the key's line); the images of periodic
 // axes are not stored (the sets' owned particles only), a restore rebuilds them
 // 8: each body's translation and rotation (moving walls: law, vectors, numbers, file, line), and
-// report.loads (u32) and report.moment_point (f64s) after report.pressure
+// report.loads (u32) and report.moment_point (f64s) after report.pressure, and the [[gauge]]
+// list after the probes (u64 count; name, position, bottom, top, line)
 // (older versions are refused with one line).
 inline constexpr std::uint32_t solver_checkpoint_version = 8;
 

@@ -39,6 +39,7 @@ struct ObserverSample {
   double potential_energy = 0;  // sum -m g.x
   double mass = 0;
   std::vector<double> probe_pressure;
+  std::vector<double> gauge_elevation;  // [[gauge]]: the free surface's level along -g (dry: bottom)
 };
 
 // Pairs the fluid's neighbour searches look at (candidates: the particles in the cells walked)

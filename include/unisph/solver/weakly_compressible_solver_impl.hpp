@@ -30,6 +30,7 @@
 #include "unisph/solver/solver_checkpoint.hpp"
 #include "unisph/sph/moving_walls.hpp"
 #include "unisph/sph/wall_load.hpp"
+#include "unisph/sph/wave_gauge.hpp"
 #include "unisph/sph/prior_acceleration.hpp"
 #include "unisph/motion/motion_table.hpp"
 #include "unisph/solver/tank_particles.hpp"
@@ -329,6 +330,21 @@ struct WeaklyCompressibleSolver<T, D>::State {
     check_walls_along_periodic_axes(c, particles, domain, wall_groups, double(kernel.cutoff()));
     make_wall_motions(c);
     if (c.loads) make_wall_load(c);
+    if (!c.gauges.empty()) {
+      std::vector<WaveGaugeLine<T, D>> lines;
+      for (const GaugeDescription& g : c.gauges) {
+        Vector x{};
+        for (int a = 0; a < D; ++a) x[a] = T(g.position[std::size_t(a)]);
+        lines.push_back({g.name, x, T(g.bottom), T(g.top)});
+      }
+      try {
+        gauges = std::make_unique<WaveGauges<T, D>>(fluid, fluid_cells, kernel, T(c.dx), gravity_of(c), lines);
+      } catch (const CaseFileError&) {
+        throw;
+      } catch (const Error& e) {
+        throw CaseFileError(c.source + ":" + std::to_string(c.gauges.front().line) + ": key 'gauge': " + e.what());
+      }
+    }
     initialise();
     if (settle_now) settle();
   }
@@ -957,6 +973,8 @@ struct WeaklyCompressibleSolver<T, D>::State {
       // A probe near a periodic face reads the images across it.
       if (fluid_images && !probes.empty()) fluid_images->refresh(p, fluid.pressure, fluid.density, fluid.mass);
       for (auto& probe : probes) s.probe_pressure.push_back(double(probe->exec(p)));
+      if (gauges)
+        for (const GaugeReading<T>& r : gauges->measure(p)) s.gauge_elevation.push_back(double(r.elevation));
     });
     return s;
   }
@@ -977,6 +995,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
   // report.loads: the wall loads, their dt-weighted sum over the acoustic steps of the current
   // advection step, and the mean over the last one.
   std::unique_ptr<WallLoad<T, D>> wall_load;
+  std::unique_ptr<WaveGauges<T, D>> gauges;  // [[gauge]]
   std::vector<WallBodyLoad<double, D>> load_sum;
   std::vector<WallLoadSample> step_loads;
   double load_time = 0;
