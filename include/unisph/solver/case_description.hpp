@@ -90,10 +90,10 @@ struct BodyDescription {
   std::string shape;               // the name of a [[shape]]
   std::vector<double> velocity;    // fluid: initial velocity (D values, zeros by default)
   int layers = 4;                  // wall: layers of dummy particles (lattice layers, or the band's depth in dx)
+  int line = 0;
   std::string fill = "lattice";    // "lattice" or "relaxed"
   int relaxation_iterations = 1500;  // fill = "relaxed": iterations of the relaxation
   MotionDescription translation, rotation;  // wall: a prescribed motion (none by default)
-  int line = 0;
 
   bool moves() const { return translation.moves() || rotation.moves(); }
 };
