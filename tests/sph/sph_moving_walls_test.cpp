@@ -139,9 +139,12 @@ TYPED_TEST(MovingWalls, PistonAndFlapFollowTheirLaws) {
               "within %.2e of the laws; largest displacement %.4f\n",
               std::string(TypeParam::test_label).c_str(), steps, worst_position, worst_velocity, worst_normal, largest_move);
   EXPECT_GT(largest_move, 0.04);
-  EXPECT_LT(worst_position, 1e-12);
-  EXPECT_LT(worst_velocity, 1e-10);
-  EXPECT_LT(worst_normal, 1e-12);
+  // The laws are evaluated in unisph::Real: round-off of double, or of float in a
+  // UNISPH_SINGLE_PRECISION build (the asan preset).
+  const double round_off = sizeof(Real) == 8 ? 1e-12 : 1e-5;
+  EXPECT_LT(worst_position, round_off);
+  EXPECT_LT(worst_velocity, 100 * round_off);
+  EXPECT_LT(worst_normal, round_off);
   EXPECT_EQ(solver.fluid_count(), solver.fluid_body().particles().owned_count());
 }
 
