@@ -17,6 +17,7 @@
 #include <sstream>
 #include <string>
 
+#include "support/by_id.hpp"
 #include "support/case_text.hpp"
 #include "support/policy_test.hpp"
 #include "unisph/solver/case_file.hpp"
@@ -24,20 +25,12 @@
 
 using namespace unisph;
 using namespace unisph::sph;
+using unisph::testing::by_id;
 using unisph::testing::file_text;
 using unisph::testing::kind_of;
 using unisph::testing::replaced;
 
 namespace {
-
-template <class T, int D>
-std::vector<Vec<T, D>> by_id(Body<T, D>& body, const std::string& variable) {
-  const std::vector<std::uint64_t> ids = body.particles().ids().to_vector();
-  const std::vector<Vec<T, D>> values = body.particles().template variable<Vec<T, D>>(variable).to_vector();
-  std::vector<Vec<T, D>> out(values.size());
-  for (std::size_t i = 0; i < ids.size(); ++i) out[ids[i] - body.particles().first_id()] = values[i];
-  return out;
-}
 
 template <class T, int D>
 double largest_difference(const std::vector<Vec<T, D>>& a, const std::vector<Vec<T, D>>& b) {

@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "support/by_id.hpp"
 #include "support/case_text.hpp"
 #include "support/policy_test.hpp"
 #include "unisph/solver/case_file.hpp"
@@ -28,6 +29,7 @@
 
 using namespace unisph;
 using namespace unisph::sph;
+using unisph::testing::by_id;
 using unisph::testing::kind_of;
 using unisph::testing::replaced;
 
@@ -62,15 +64,6 @@ std::string tank_case(double dx, const std::string& tank_motion, const std::vect
     << (settling > 0 ? "settling_time = " + std::to_string(settling) + "\nsettling_damping = 1.0\n" : std::string())
     << "[time]\nend = 2.0\noutput_interval = 0.5\n";
   return s.str();
-}
-
-template <class V>
-std::vector<V> by_id(Body<double, 2>& body, const std::string& name) {
-  const std::vector<std::uint64_t> ids = body.particles().ids().to_vector();
-  const std::vector<V> values = body.particles().template variable<V>(name).to_vector();
-  std::vector<V> out(values.size());
-  for (std::size_t i = 0; i < ids.size(); ++i) out[ids[i] - body.particles().first_id()] = values[i];
-  return out;
 }
 
 // A piston (a plate moving along x by a ramped sinusoid) and a flap (a plate hinged at the floor

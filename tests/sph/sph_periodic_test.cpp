@@ -24,6 +24,7 @@
 #include <sstream>
 #include <string>
 
+#include "support/by_id.hpp"
 #include "support/case_text.hpp"
 #include "support/policy_test.hpp"
 #include "unisph/solver/case_file.hpp"
@@ -32,21 +33,11 @@
 using namespace unisph;
 using namespace unisph::sph;
 using unisph::testing::file_text;
+using unisph::testing::by_id;
 using unisph::testing::kind_of;
 using unisph::testing::replaced;
 
 namespace {
-
-// The owned particles' values of a variable, by particle id.
-template <class V, class T, int D>
-std::vector<V> by_id(Body<T, D>& body, const std::string& variable) {
-  ParticleSet& set = body.particles();
-  const std::vector<std::uint64_t> ids = set.ids().to_vector();
-  const std::vector<V> values = set.template variable<V>(variable).to_vector();
-  std::vector<V> out(set.owned_count());
-  for (Index i = 0; i < set.owned_count(); ++i) out[ids[i] - set.first_id()] = values[i];
-  return out;
-}
 
 const std::string taylor_green_path = std::string(UNISPH_CASES_DIR) + "/taylor_green_2d.toml";
 

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "support/by_id.hpp"
 #include "support/policy_test.hpp"
 #include "unisph/motion/linear_waves.hpp"
 #include "unisph/motion/wave_analysis.hpp"
@@ -26,6 +27,7 @@
 
 using namespace unisph;
 using namespace unisph::sph;
+using unisph::testing::by_id;
 using unisph::testing::kind_of;
 
 namespace {
@@ -59,15 +61,6 @@ std::string flume_case(double dx, double length, double stroke, double period, s
   for (std::size_t g = 0; g < gauge_x.size(); ++g)
     s << "[[gauge]]\nname = \"wave" << g << "\"\nposition = [" << gauge_x[g] << ", 0.0]\nbottom = 0.5\ntop = 1.5\n";
   return s.str();
-}
-
-template <class V>
-std::vector<V> by_id(Body<double, 2>& body, const std::string& name) {
-  const std::vector<std::uint64_t> ids = body.particles().ids().to_vector();
-  const std::vector<V> values = body.particles().template variable<V>(name).to_vector();
-  std::vector<V> out(values.size());
-  for (std::size_t i = 0; i < ids.size(); ++i) out[ids[i] - body.particles().first_id()] = values[i];
-  return out;
 }
 
 }  // namespace
