@@ -44,6 +44,8 @@ void write_case(io::CheckpointWriter& out, const CaseDescription& c) {
   out.f64(c.viscosity);
   out.u32(c.continuity_dissipation ? 1 : 0);
   out.string(c.free_surface_density);
+  out.string(c.density_method);
+  out.f64(c.density_diffusion);
   out.f64(c.gravity);
   out.u32(c.hydrostatic ? 1 : 0);
   out.f64(c.settling_time);
@@ -64,6 +66,7 @@ void write_case(io::CheckpointWriter& out, const CaseDescription& c) {
   for (const ProbeDescription& p : c.probes) {
     out.string(p.name);
     out.f64s(p.position);
+    out.f64(p.kernel_width);
   }
   out.u64(c.gauges.size());
   for (const GaugeDescription& g : c.gauges) {
@@ -129,6 +132,8 @@ CaseDescription read_case(io::CheckpointReader& in) {
   c.viscosity = in.f64();
   c.continuity_dissipation = in.u32() != 0;
   c.free_surface_density = in.string();
+  c.density_method = in.string();
+  c.density_diffusion = in.f64();
   c.gravity = in.f64();
   c.hydrostatic = in.u32() != 0;
   c.settling_time = in.f64();
@@ -151,6 +156,7 @@ CaseDescription read_case(io::CheckpointReader& in) {
     ProbeDescription p;
     p.name = in.string();
     p.position = in.f64s();
+    p.kernel_width = in.f64();
     c.probes.push_back(p);
   }
   const std::uint64_t gauges = in.u64();
@@ -259,6 +265,8 @@ std::string physics_difference(const CaseDescription& a, const CaseDescription& 
   field("fluid.viscosity", a.viscosity, b.viscosity);
   field("fluid.continuity_dissipation", a.continuity_dissipation, b.continuity_dissipation);
   field("fluid.free_surface_density", a.free_surface_density, b.free_surface_density);
+  field("fluid.density_method", a.density_method, b.density_method);
+  field("fluid.density_diffusion", a.density_diffusion, b.density_diffusion);
   field("physics.gravity", a.gravity, b.gravity);
   field("initial.state is hydrostatic", a.hydrostatic, b.hydrostatic);
   field("time.sort_every", a.sort_every, b.sort_every);

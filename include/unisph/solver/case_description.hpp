@@ -20,6 +20,10 @@ namespace unisph::sph {
 struct ProbeDescription {
   std::string name;
   std::vector<double> position;
+  // The probe's smoothing length as a multiple of the fluid's (h = 1.3 dx): a wider kernel
+  // averages the pressure over more particles, as a sensor of finite size does.
+  // TrixiParticles' dam-break sensors interpolate with twice its h = 2 dx, i.e. 3.08 of ours.
+  double kernel_width = 1;
 };
 
 // [[gauge]]: a wave gauge (sph/wave_gauge.hpp): the free-surface elevation on the line through
@@ -145,6 +149,12 @@ struct CaseDescription {
   // (max(rho_sum, rho0)) or "carried" (the shortfall from the carried density added back), or
   // "none" (rho_sum as it is: a flow without free surface, such as a periodic box).
   std::string free_surface_density = "reference";
+  // Where the density comes from (docs/sph.md, "Density"): "summation" (the kernel sum at every
+  // advection step, the continuity equation within it: SPHinXsys' scheme) or "continuity" (the
+  // continuity equation alone, as delta-SPH, DualSPHysics and TrixiParticles do).
+  std::string density_method = "summation";
+  // delta of delta-SPH's density-diffusion term (sph/density_diffusion.hpp); 0: none.
+  double density_diffusion = 0;
   // [physics]
   double gravity = 0;                  // |g|
   std::vector<double> gravity_vector;  // g itself (D values): (0, -gravity(, 0)) in the short form

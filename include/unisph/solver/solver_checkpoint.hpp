@@ -31,7 +31,7 @@ namespace unisph::sph {
 // report.loads (u32) and report.moment_point (f64s) after report.pressure, and the [[gauge]]
 // list after the probes (u64 count; name, position, bottom, top, line)
 // (older versions are refused with one line).
-inline constexpr std::uint32_t solver_checkpoint_version = 8;
+inline constexpr std::uint32_t solver_checkpoint_version = 9;
 
 void write_case(io::CheckpointWriter& out, const CaseDescription& c);
 CaseDescription read_case(io::CheckpointReader& in);

@@ -309,7 +309,9 @@ struct WeaklyCompressibleSolver<T, D>::State {
         wall_free(wall_free_of(c, particles, domain, double(kernel.cutoff()))),
         pressure_relaxation(fluid, wall, inner, contact, kernel, riemann, wall_volume, wall_free),
         velocity_update(fluid),
-        density_relaxation(fluid, wall, inner, contact, kernel, riemann, wall_volume, c.continuity_dissipation, wall_free),
+        density_relaxation(fluid, wall, inner, contact, kernel, riemann, wall_volume, c.continuity_dissipation, wall_free,
+                           DensityDiffusion<T, D>::make(T(c.density_diffusion), kernel.h, T(c.sound_speed), T(c.density),
+                                                        gravity_of(c), c.density_method == "continuity")),
         density_update(fluid),
         max_speed(fluid),
         velocity_update_and_max_speed(velocity_update, max_speed),
@@ -325,7 +327,8 @@ struct WeaklyCompressibleSolver<T, D>::State {
     for (const ProbeDescription& p : c.probes) {
       Vector x{};
       for (int a = 0; a < D; ++a) x[a] = T(p.position[a]);
-      probes.push_back(std::make_unique<PressureProbe<T, D>>(fluid, kernel, x));
+      probes.push_back(std::make_unique<PressureProbe<T, D>>(
+          fluid, WendlandC2Kernel<T, D>::from_spacing(T(c.dx * p.kernel_width)), x));
     }
     check_walls_along_periodic_axes(c, particles, domain, wall_groups, double(kernel.cutoff()));
     make_wall_motions(c);
@@ -728,7 +731,8 @@ struct WeaklyCompressibleSolver<T, D>::State {
         throw SimulationError(s.str());
       }
       std::uint64_t steps_here = 0;
-      density_summation.exec(p);
+      // The density from the kernel sum, or from the continuity equation alone (docs/sph.md, "Density").
+      if (description.density_method != "continuity") density_summation.exec(p);
       if (fluid_images) fluid_images->refresh(p, fluid.density);  // prior acceleration reads rho_j
       prior_acceleration.exec(p);
       // Each acoustic step: pressure start (rho, p, x), pressure relaxation (a), velocity

@@ -12,6 +12,8 @@
 //                       drops it. The wall term matters: without it, p_i - p_j does not cancel next
 //                       to a wall under gravity (the fluid neighbours above i have a lower pressure,
 //                       nothing below balances them) and the term compresses water at rest.
+//                       + D_i, the density diffusion of delta-SPH where the case asks for it
+//                       (density_diffusion.hpp; off by default).
 //   DensityUpdate       rho += drho/dt dt/2 (the other half is applied at the next step's start)
 #include <type_traits>
 
@@ -19,6 +21,7 @@
 #include "unisph/neighbor/contact_relation.hpp"
 #include "unisph/neighbor/inner_relation.hpp"
 #include "unisph/sph/acoustic_riemann_solver.hpp"
+#include "unisph/sph/density_diffusion.hpp"
 #include "unisph/sph/fluid_variables.hpp"
 #include "unisph/sph/neighbor_records.hpp"
 #include "unisph/sph/wall_dummy_pressure.hpp"
@@ -32,9 +35,11 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
  public:
   DensityRelaxation(FluidVariables<T, D>& fluid, WallVariables<T, D>& wall, InnerRelation<T, D>& inner,
                     ContactRelation<T, D>& contact, WendlandC2Kernel<T, D> kernel, AcousticRiemannSolver<T> riemann,
-                    T wall_volume, bool riemann_dissipation, WallFreeBox<T, D> wall_free)
+                    T wall_volume, bool riemann_dissipation, WallFreeBox<T, D> wall_free,
+                    DensityDiffusion<T, D> diffusion = {})
       : fluid_(fluid), wall_(wall), inner_(inner), contact_(contact), kernel_(kernel), riemann_(riemann),
-        wall_volume_(wall_volume), dissipation_(riemann_dissipation ? T(1) : T(0)), wall_free_(wall_free) {}
+        wall_volume_(wall_volume), dissipation_(riemann_dissipation ? T(1) : T(0)), wall_free_(wall_free),
+        diffusion_(diffusion) {}
 
   struct Kernel {
     // As the pressure relaxation's (exec/occupancy_hint.hpp): 6 blocks of 256 (at most 42
@@ -53,20 +58,23 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
     T dissipation;  // k
     WallFreeBox<T, D> wall_free;  // no wall neighbour inside
     bool moving_walls;
+    DensityDiffusion<T, D> diffusion;
 
     UNISPH_HOST_DEVICE void interaction(Index i, Real) const {
       const VelocityPressure<T, D> own = velocity_pressure[i];
       const Vec<T, D> v_i = own.velocity;
       const T p_i = own.pressure;
-      T rate = T(0);
+      T rate = T(0), diffused = T(0);
       const PairKernelDerivative<T, D> derivative{kernel};  // dW/dr, cached in stored lists
+      const bool diffuse = diffusion.on();
       for_each_neighbor_record(inner, position_volume, i, derivative,
                                [&](Index j, const PositionVolume<T, D>& r_j, const NeighborPair<T, D>& pair, T dW) {
                                  VelocityPressureRead<T, D> s_j = velocity_pressure[j];
                                  const Vec<T, D>& e = pair.direction();
                                  const T divergence = dot(v_i - s_j.velocity, e) +
-                                                      dissipation * riemann.velocity_dissipation(p_i, s_j.pressure);
+                                                      dissipation * riemann.velocity_dissipation(diffusion.dissipation_pressure(p_i, pair), s_j.pressure);
                                  rate += divergence * dW * r_j.volume;
+                                 if (diffuse) diffused += diffusion.pair_term(p_i, s_j.pressure, pair, dW, r_j.volume);
                                });
       const T rho_i = density[i];
       if (contact.uses_stored_lists() || !wall_free.contains(position_volume[i].position)) {
@@ -84,7 +92,7 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
           rate += divergence * dW * wall_volume;
         });
       }
-      density_change_rate[i] = rate * rho_i;
+      density_change_rate[i] = rate * rho_i + diffusion.coefficient * diffused;
     }
   };
   static_assert(std::is_trivially_copyable_v<Kernel>, "Kernels are copied to the device byte for byte.");
@@ -106,7 +114,8 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
             wall_volume_,
             dissipation_,
             wall_free_,
-            wall_.moving()};
+            wall_.moving(),
+            diffusion_};
   }
   Index size() const { return fluid_.size(); }
 
@@ -120,6 +129,7 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
   T wall_volume_;
   T dissipation_;
   WallFreeBox<T, D> wall_free_;
+  DensityDiffusion<T, D> diffusion_;
 };
 
 template <class T, int D>
