@@ -29,13 +29,15 @@ cmake --build --preset default -j "$jobs"
 stage "tests (default preset)"
 ctest --preset default -j "$jobs" -LE validation
 
-# The SPH validation runs compare with experiments (docs/validation.md). The solver does not
-# meet every bound yet (issue 4 is open), so their results are printed here but do not decide
-# the outcome; once the solver is validated this stage joins the gate above.
-stage "SPH validation against experiments (reported, not gating yet)"
-# Only the SPH runs: the particle-relaxation validation (test_relaxation_validation, also labelled
-# validation) takes hours on two cores and is run by hand and on the GPU (docs/particle_generation.md).
-ctest --preset default -L validation -R '^test_sph_validation' --output-on-failure || echo "validation: some comparisons are outside their bounds (see above and docs/validation.md)"
+# The SPH validation runs against experiments and peers (issue 23's bands, docs/validation.md)
+# decide the outcome. Only the SPH runs: the particle-relaxation validation (test_relaxation_validation,
+# also labelled validation) takes hours on two cores and is run by hand and on the GPU
+# (docs/particle_generation.md); the finer dam breaks run on a GPU (scripts/sph_validation_gpu.sh).
+stage "SPH validation against experiments and peers (gating)"
+ctest --preset default -L validation -LE open -R '^test_sph_validation' --output-on-failure
+# The bands the method does not meet yet (label `open`): run and printed, not gating.
+stage "SPH validation: the bands not met yet (reported, not gating)"
+ctest --preset default -L open -R '^test_sph_validation' --output-on-failure || echo "validation: the open bands are outside their bounds, as docs/validation.md reports"
 
 stage "configure + build (asan preset)"
 cmake --preset asan

@@ -51,6 +51,28 @@ struct Series {
   }
 };
 
+// Issue 23's pressure noise: the series sampled every 0.01 (linear interpolation), minus its
+// centred moving average over 25 samples (0.25 time units), its standard deviation over
+// [3.5, 5] (scripts/sph_run_metrics.py computes the same).
+double pressure_noise(const Series& s) {
+  std::vector<double> t, y;
+  for (long k = long(std::ceil(s.t.front() / 0.01 - 1e-9)); k * 0.01 <= s.t.back() + 1e-12; ++k) {
+    t.push_back(k * 0.01);
+    y.push_back(s.at(std::min(k * 0.01, s.t.back())));
+  }
+  std::vector<double> residual;
+  for (std::size_t k = 12; k + 12 < y.size(); ++k) {
+    if (t[k] < 3.5 - 1e-9 || t[k] > 5.0 + 1e-9) continue;
+    double average = 0;
+    for (std::size_t j = k - 12; j <= k + 12; ++j) average += y[j];
+    residual.push_back(y[k] - average / 25);
+  }
+  double mean = 0, variance = 0;
+  for (double r : residual) mean += r / double(residual.size());
+  for (double r : residual) variance += (r - mean) * (r - mean) / double(residual.size());
+  return std::sqrt(variance);
+}
+
 // The cells of a validation CSV's data rows: after its '#' comment lines and its header row.
 std::vector<std::vector<std::string>> data_rows(const std::string& name) {
   std::ifstream in(std::string(UNISPH_VALIDATION_DATA_DIR) + "/" + name);
@@ -78,6 +100,16 @@ Series read_csv(const std::string& name) {
   for (const auto& row : data_rows(name)) {
     s.t.push_back(std::stod(row.at(0)));
     s.y.push_back(std::stod(row.at(1)));
+  }
+  return s;
+}
+
+// Column k of a CSV against its first column.
+Series read_column(const std::string& name, std::size_t k) {
+  Series s;
+  for (const auto& row : data_rows(name)) {
+    s.t.push_back(std::stod(row.at(0)));
+    s.y.push_back(std::stod(row.at(k)));
   }
   return s;
 }
@@ -155,6 +187,10 @@ Series probe_series(const RunRecord& run, const CaseDescription& c, std::size_t 
 
 }  // namespace
 
+// Issue 23's bands for the collapsing column, founded on the experiments and on Koshizuka & Oka's
+// own MPS run (docs/validation.md): the front at T = 1.8 without a time shift, then after one
+// best-fit time shift (the experiments' gates opened over a finite time) the RMS deviation from
+// each experiment series, and the two resolutions against each other.
 TEST(HostValidation, ColumnCollapse) {
   const CaseDescription coarse = load("column_collapse_2d.toml");
   CaseDescription fine = coarse;
@@ -162,83 +198,103 @@ TEST(HostValidation, ColumnCollapse) {
   const RunRecord run40 = run_case<double, 2>(coarse, coarse.end_time);
   const RunRecord run80 = run_case<double, 2>(fine, fine.end_time);
   const Series z40 = front_series(run40, coarse), z80 = front_series(run80, fine);
-  const Series experiments[] = {read_csv("martin_moyce_1952_a1.125in.csv"), read_csv("martin_moyce_1952_a2.25in.csv"),
-                                read_csv("koshizuka_oka_1996_experiment.csv")};
-  for (const auto* run : {&z40, &z80}) {
-    double worst_low = 1e9, worst_high = 0;  // smallest z / lower bound, largest z / upper bound
-    double at_low = 0, at_high = 0;
-    int checked = 0;
-    for (std::size_t k = 0; k < run->t.size(); ++k) {
-      const double T = run->t[k];
-      if (T < 0.8 || T > 2.5) continue;
-      double lo = 1e9, hi = -1e9;
-      for (const Series& e : experiments) {
-        const double v = e.at(T);
-        if (std::isnan(v)) continue;
-        lo = std::min(lo, v);
-        hi = std::max(hi, v);
-      }
-      if (hi < lo) continue;
-      ++checked;
-      if (run->y[k] / (0.93 * lo) < worst_low) {
-        worst_low = run->y[k] / (0.93 * lo);
-        at_low = T;
-      }
-      if (run->y[k] / (1.07 * hi) > worst_high) {
-        worst_high = run->y[k] / (1.07 * hi);
-        at_high = T;
-      }
+  const std::pair<const char*, Series> experiments[] = {
+      {"Martin & Moyce a = 1.125 in", read_csv("martin_moyce_1952_a1.125in.csv")},
+      {"Martin & Moyce a = 2.25 in", read_csv("martin_moyce_1952_a2.25in.csv")},
+      {"Koshizuka & Oka", read_csv("koshizuka_oka_1996_experiment.csv")}};
+  // RMS of z_sim(T + shift) / z_exp(T) - 1 over the experiment's samples in [0.8, 2.5].
+  const auto rms = [](const Series& run, const Series& e, double shift) {
+    double sum = 0;
+    int n = 0;
+    for (std::size_t k = 0; k < e.t.size(); ++k) {
+      if (e.t[k] < 0.8 || e.t[k] > 2.5) continue;
+      const double z = run.at(e.t[k] + shift);
+      if (std::isnan(z)) continue;
+      sum += (z / e.y[k] - 1) * (z / e.y[k] - 1);
+      ++n;
     }
-    EXPECT_GE(worst_low, 1.0) << "at T = " << at_low;
-    EXPECT_LE(worst_high, 1.0) << "at T = " << at_high;
-    std::printf("[ measured ] column collapse L/dx = %s: front / (0.93 x lowest experiment) >= %.4f (bound 1), "
-                "front / (1.07 x highest experiment) <= %.4f (bound 1) at T = %.3f, over %d samples, T in [0.8, 2.5]\n",
-                run == &z40 ? "40" : "80", worst_low, worst_high, at_high, checked);
+    return n > 0 ? std::sqrt(sum / n) : std::nan("");
+  };
+  for (const auto* run : {&z40, &z80}) {
+    const char* name = run == &z40 ? "40" : "80";
+    const double at_1_8 = run->at(1.8);
+    std::printf("[ measured ] column collapse L/dx = %s: z/L at T = 1.8 = %.3f without time shift (band [2.30, 2.50]; "
+                "Koshizuka & Oka's MPS 2.41, the experiments 2.09-2.12)\n",
+                name, at_1_8);
+    EXPECT_GE(at_1_8, 2.30);
+    EXPECT_LE(at_1_8, 2.50);
+    // One shift for all series: the one that makes the worst series' RMS smallest, |shift| <= 0.3.
+    double best_shift = 0, best = 1e9;
+    for (int k = -300; k <= 300; ++k) {
+      double worst = 0;
+      for (const auto& [label, e] : experiments) worst = std::max(worst, rms(*run, e, k * 0.001));
+      if (worst < best) best = worst, best_shift = k * 0.001;
+    }
+    for (const auto& [label, e] : experiments) {
+      const double r = rms(*run, e, best_shift);
+      std::printf("[ measured ] column collapse L/dx = %s: shifted by %+.3f, RMS deviation from %s %.2f %% over T in "
+                  "[0.8, 2.5] (band 5 %%)\n",
+                  name, best_shift, label, 100 * r);
+      EXPECT_LE(r, 0.05) << label;
+    }
+    EXPECT_LE(std::abs(best_shift), 0.3);
   }
   double worst = 0;
   for (std::size_t k = 0; k < z40.t.size(); ++k) {
     if (z40.t[k] < 0.8 || z40.t[k] > 2.5) continue;
     worst = std::max(worst, std::abs(z40.y[k] - z80.at(z40.t[k])) / z80.at(z40.t[k]));
   }
-  std::printf("[ measured ] column collapse: L/dx = 40 and 80 differ by at most %.2f %% (bound 3 %%); acoustic steps %llu and %llu\n",
+  std::printf("[ measured ] column collapse: L/dx = 40 and 80 differ by at most %.2f %% (band 3 %%); acoustic steps %llu and %llu\n",
               100 * worst, (unsigned long long)run40.acoustic_steps, (unsigned long long)run80.acoustic_steps);
   EXPECT_LE(worst, 0.03);
 }
 
+// The probes of cases/dambreak_2d.toml by name.
+std::size_t probe_index(const CaseDescription& c, const std::string& name) {
+  for (std::size_t k = 0; k < c.probes.size(); ++k)
+    if (c.probes[k].name == name) return k;
+  ADD_FAILURE() << "no probe " << name;
+  return 0;
+}
+
+// Issue 23's dam-break bands that the 2-core CPU checks at H/40 (the finer resolutions run on the
+// GPU: scripts/sph_validation_gpu.sh and scripts/sph_bands.py). The point probes carry the
+// fluid's kernel; the `_wide` ones a kernel of 8 dx, as TrixiParticles samples its sensors.
 TEST(HostValidation, DamBreakWallPressure) {
   const CaseDescription c = load("dambreak_2d.toml");
   const RunRecord run = run_case<double, 2>(c, c.end_time);
-  const Series p = probe_series(run, c, 0);
+  const Series p = probe_series(run, c, probe_index(c, "wall_0.2H"));
   const double crossing = p.first_crossing(0.2);
   const Series buchner = read_csv("buchner_2002_wall_pressure.csv");
-  const double mean = p.window_mean(3.5, 5.0), reference = buchner.window_mean(3.5, 5.0);
-  std::printf("[ measured ] dam break: first p/(rho g H) > 0.2 at t sqrt(g/H) = %.3f (bound [2.30, 2.65])\n", crossing);
-  std::printf("[ measured ] dam break: mean p/(rho g H) over [3.5, 5] = %.4f, Buchner %.4f: %+.1f %% (bound +-15 %%)\n",
-              mean, reference, 100 * (mean / reference - 1));
-  // The vertical profile beside Lobovsky et al.'s sensors (reported, no bound: the issue bounds 0.2 H only).
-  const std::pair<const char*, const char*> sensors[] = {{"wall_0.01H", "lobovsky_2014_sensor1.csv"},
-                                                         {"wall_0.1H", "lobovsky_2014_sensor3.csv"},
-                                                         {"wall_0.267H", "lobovsky_2014_sensor4.csv"}};
-  for (const auto& [probe, file] : sensors)
-    for (std::size_t k = 0; k < c.probes.size(); ++k)
-      if (c.probes[k].name == probe) {
-        const Series simulated = probe_series(run, c, k), measured = read_csv(file);
-        std::printf("[ measured ] dam break: mean p/(rho g H) over [3.5, 5] at probe %s = %.4f, Lobovsky %s %.4f\n",
-                    probe, simulated.window_mean(3.5, 5.0), file, measured.window_mean(3.5, 5.0));
-        // When the rising water reaches each sensor (docs/validation.md, "Arrival at the sensors").
-        std::printf("[ measured ] dam break: first p/(rho g H) > 0.2 at probe %s = %.3f, Lobovsky %s %.3f\n", probe,
-                    simulated.first_crossing(0.2), file, measured.first_crossing(0.2));
-      }
-  // Lobovsky's sensors 3 and 4 (30 and 80 mm, 0.1 H and 0.267 H) bracket Buchner's 0.2 H: the time
-  // their crossings give there, linearly in height, beside Buchner's own.
-  const double lobovsky_3 = read_csv("lobovsky_2014_sensor3.csv").first_crossing(0.2);
-  const double lobovsky_4 = read_csv("lobovsky_2014_sensor4.csv").first_crossing(0.2);
-  std::printf("[ measured ] dam break: first p/(rho g H) > 0.2 at 0.2 H: Buchner %.3f; Lobovsky's sensors 3 and 4 "
-              "interpolated to 0.2 H: %.3f\n",
-              buchner.first_crossing(0.2), lobovsky_3 + (0.2 - 0.1) / (0.2667 - 0.1) * (lobovsky_4 - lobovsky_3));
-  EXPECT_GE(crossing, 2.30);
-  EXPECT_LE(crossing, 2.65);
-  EXPECT_NEAR(mean / reference, 1.0, 0.15);
+  std::printf("[ measured ] dam break H/40: first p/(rho g H) > 0.2 at 0.2 H at t sqrt(g/H) = %.3f (band [2.40, 2.70]; "
+              "Buchner %.3f)\n",
+              crossing, buchner.first_crossing(0.2));
+  EXPECT_GE(crossing, 2.40);
+  EXPECT_LE(crossing, 2.70);
+  // Beside Lobovsky et al.'s sensors (digitised series); their bands are at H/160 and H/320 (GPU).
+  const std::pair<const char*, const char*> sensors[] = {{"0.01H", "lobovsky_2014_sensor1.csv"},
+                                                         {"0.1H", "lobovsky_2014_sensor3.csv"},
+                                                         {"0.267H", "lobovsky_2014_sensor4.csv"}};
+  for (const auto& [height, file] : sensors) {
+    const Series measured = read_csv(file);
+    for (const char* kind : {"", "_wide"}) {
+      const Series simulated = probe_series(run, c, probe_index(c, std::string("wall_") + height + kind));
+      std::printf("[ measured ] dam break H/40: probe wall_%s%s: mean over [3.5, 5] %.4f, first p* > 0.2 at %.3f; "
+                  "Lobovsky (digitised) %.4f, %.3f\n",
+                  height, kind, simulated.window_mean(3.5, 5.0), simulated.first_crossing(0.2),
+                  measured.window_mean(3.5, 5.0), measured.first_crossing(0.2));
+    }
+  }
+  // No dip below -0.2 before the impact, at any probe.
+  for (const ProbeDescription& probe : c.probes) {
+    const Series s = probe_series(run, c, probe_index(c, probe.name));
+    const double impact = s.first_crossing(0.2);
+    double lowest = 0;
+    for (std::size_t k = 0; k < s.t.size() && s.t[k] < impact; ++k) lowest = std::min(lowest, s.y[k]);
+    std::printf("[ measured ] dam break H/40: probe %s: lowest p/(rho g H) before the impact %.3f (band >= -0.2)\n",
+                probe.name.c_str(), lowest);
+    EXPECT_GE(lowest, -0.2) << probe.name;
+  }
   // Conservation over the whole run.
   const double e0 = run.samples.front().kinetic_energy + run.samples.front().potential_energy;
   double largest = 0;
@@ -252,6 +308,39 @@ TEST(HostValidation, DamBreakWallPressure) {
   EXPECT_LE(largest, 1.005);
 }
 
+// Issue 23's bands that the method does not meet yet at H/40 (docs/validation.md, "Issue 23"): the
+// 0.2 H window mean within 10 % of Buchner's, and the pressure noise at every probe at most 1.5
+// times TrixiParticles' WCSPH reference at H/40. An entry of its own (label `open`), reported by
+// scripts/test.sh beside the gate.
+TEST(HostValidation, DamBreakWindowMeanAndNoise) {
+  const CaseDescription c = load("dambreak_2d.toml");
+  CaseDescription to_six = c;
+  const RunRecord run = run_case<double, 2>(to_six, 6.0);
+  const Series buchner = read_csv("buchner_2002_wall_pressure.csv");
+  const double reference = buchner.window_mean(3.5, 5.0);
+  for (const char* kind : {"", "_wide"}) {
+    const double mean = probe_series(run, c, probe_index(c, std::string("wall_0.2H") + kind)).window_mean(3.5, 5.0);
+    std::printf("[ measured ] dam break H/40: probe wall_0.2H%s: mean over [3.5, 5] %.4f, Buchner %.4f: %+.1f %% (band "
+                "+-10 %%)\n",
+                kind, mean, reference, 100 * (mean / reference - 1));
+    if (*kind == 0) EXPECT_NEAR(mean / reference, 1.0, 0.10);
+  }
+  // TrixiParticles' WCSPH at H/40, sensors P1, P3, P4 (0.01, 0.1, 0.267 H); 0.2 H linearly between.
+  const double n1 = pressure_noise(read_column("trixiparticles_reference_wcsph_H40.csv", 1));
+  const double n3 = pressure_noise(read_column("trixiparticles_reference_wcsph_H40.csv", 3));
+  const double n4 = pressure_noise(read_column("trixiparticles_reference_wcsph_H40.csv", 4));
+  const std::pair<const char*, double> reference_noise[] = {
+      {"0.01H", n1}, {"0.1H", n3}, {"0.2H", n3 + (0.2 - 0.1) / (0.2667 - 0.1) * (n4 - n3)}, {"0.267H", n4}};
+  for (const auto& [height, peer] : reference_noise)
+    for (const char* kind : {"", "_wide"}) {
+      const double noise = pressure_noise(probe_series(run, c, probe_index(c, std::string("wall_") + height + kind)));
+      std::printf("[ measured ] dam break H/40: probe wall_%s%s: pressure noise %.4f, TrixiParticles' WCSPH %.4f: %.2f "
+                  "times (band 1.5)\n",
+                  height, kind, noise, peer, noise / peer);
+      EXPECT_LE(noise, 1.5 * peer) << height << kind;
+    }
+}
+
 // The same case in SPHinXsys, the method's reference implementation: its regression records of
 // the water's mechanical energy and of the 0.2 H probe (tests/data/validation/README.md), sampled
 // every 200 advection steps of its loop, which keeps every acoustic step whole. Run with that loop
@@ -260,6 +349,8 @@ void compare_with_sphinxsys_records(const std::string& free_surface_density) {
   CaseDescription c = load("dambreak_2d.toml");
   c.last_acoustic_step = "full";
   c.free_surface_density = free_surface_density;
+  c.density_method = "summation";  // SPHinXsys' scheme: the case file's continuity density is not its
+  c.density_diffusion = 0;
   const char* form = free_surface_density.c_str();
   const RunRecord run = run_case<double, 2>(c, c.end_time);
   const Records energy = read_records("sphinxsys_2d_dambreak_energy.csv");
@@ -354,6 +445,23 @@ TEST(HostValidation, HydrostaticTank) {
   for (std::size_t i = 0; i < x0.size(); ++i) moved += norm(x1[i] - x0[i]) >= c.dx;
   const double fraction = 1.0 - double(moved) / double(x0.size());
   std::printf("[ measured ] hydrostatic: %.2f %% of the particles moved less than dx (bound 99 %%)\n", 100 * fraction);
+  EXPECT_GE(fraction, 0.99);
+}
+
+// Issue 23, item 2: the tank started on the lattice without the settling stage. Not met: the
+// square lattice is unstable under the pair pressure force at h = 1.3 dx (docs/validation.md,
+// "The hydrostatic tank's instability"). An entry of its own (label `open`).
+TEST(HostValidation, HydrostaticTankWithoutSettling) {
+  CaseDescription c = load("hydrostatic_2d.toml");
+  c.settling_time = 0;
+  std::vector<Vec<double, 2>> x0, x1;
+  run_case<double, 2>(c, c.end_time, PolicyKind::par, &x0, &x1);
+  std::size_t moved = 0;
+  for (std::size_t i = 0; i < x0.size(); ++i) moved += norm(x1[i] - x0[i]) >= c.dx;
+  const double fraction = 1.0 - double(moved) / double(x0.size());
+  std::printf("[ measured ] hydrostatic without settling: %.2f %% of the particles moved less than dx by t = %.0f "
+              "(band 99 %%)\n",
+              100 * fraction, c.end_time);
   EXPECT_GE(fraction, 0.99);
 }
 
