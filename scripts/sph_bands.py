@@ -17,7 +17,10 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import sph_run_metrics as m  # noqa: E402
 
-DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "data", "validation")
+# tests/data/validation of the source tree, or validation/ beside scripts/ in a device bundle.
+HERE = os.path.dirname(os.path.abspath(__file__))
+DATA = next(p for p in (os.path.join(HERE, "..", "tests", "data", "validation"), os.path.join(HERE, "..", "validation"))
+            if os.path.isdir(p))
 BUCHNER = m.window_mean(*(lambda d: (d["t_star"], d["p_star"]))(m.read(os.path.join(DATA, "buchner_2002_wall_pressure.csv"))), 3.5, 5.0)
 # Lobovsky et al. 2014, one run at 20 kHz ("peak event 5", their Fig. 18; ../shared/data/validation/
 # lobovsky_2014_fig18_event5_sensor*.csv, from TNL-SPH): window mean over [3.5, 5] and first p* > 0.2.

@@ -6,6 +6,7 @@
 # holding unisph and test_sph_methods, with cases/ and scripts/ as data.
 #   PART 2d   the policy test on the GPU; the 2D dam break at H/40, 80, 160, 320 (double, to
 #             t* = 6) and, for the before/after table, H/40 and H/320 with the summed density
+#             (the cases' method before issue 23)
 #   PART 3d   the 3D dam break (Lobovsky's tank) at dx = 0.0125 (double) and 0.00625 (float)
 #   (default: both)
 set -uo pipefail
@@ -25,7 +26,8 @@ if [ "$PART" != 3d ]; then
   for n in 40 80 160 320; do
     run "dambreak_2d_H$n" "$D/dambreak_2d.toml" --dx "$(awk "BEGIN{print 1/$n}")" --end-time 6
   done
-  sed 's/^density_method = "continuity".*/density_method = "summation"/; s/^density_diffusion = 0.1.*//' \
+  sed 's/^density_method = "continuity".*/density_method = "summation"/; s/^density_diffusion = 0.1.*//;
+       s/^continuity_dissipation = false.*/continuity_dissipation = true/' \
     "$D/dambreak_2d.toml" > "$W/dambreak_2d_summation.toml"
   mkdir -p "$OUT/summation"
   for n in 40 320; do

@@ -647,6 +647,10 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
   if (c.density_diffusion > 0.1)
     r.fail(fluid.get("density_diffusion"), "fluid.density_diffusion",
            "must be at most 0.1 (larger values made the explicit diffusion blow up in the 2D dam break; delta-SPH uses 0.1)");
+  if (c.density_method == "continuity" && c.continuity_dissipation)
+    r.fail(fluid.get("continuity_dissipation"), "fluid.continuity_dissipation",
+           "with fluid.density_method = \"continuity\" the Riemann dissipation of the continuity equation is an explicit "
+           "density diffusion that nothing resets, and it blew up the 3D dam break: use fluid.density_diffusion instead");
   if (c.density_diffusion > 0 && c.continuity_dissipation)
     r.fail(fluid.get("density_diffusion"), "fluid.density_diffusion",
            "with fluid.continuity_dissipation = true the Riemann dissipation already diffuses the density, and both "

@@ -452,7 +452,7 @@ TYPED_TEST(SphSolver, DensityDiffusionVanishesInHydrostaticBalanceAndDiffusesCur
     ps.assign(p);
     particle_for(this->policy, n,
                  DiffusionOverLattice<double>{xs.read(this->policy), ps.read(this->policy), out.write(this->policy), n,
-                                              kernel, sph::DensityDiffusion<double, 2>::make(delta, kernel.h, c0, rho0, g, true),
+                                              kernel, sph::DensityDiffusion<double, 2>::make(delta, kernel.h, c0, rho0, g),
                                               dx * dx});
     return out.to_vector();
   };

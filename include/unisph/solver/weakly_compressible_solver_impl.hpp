@@ -311,7 +311,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
         velocity_update(fluid),
         density_relaxation(fluid, wall, inner, contact, kernel, riemann, wall_volume, c.continuity_dissipation, wall_free,
                            DensityDiffusion<T, D>::make(T(c.density_diffusion), kernel.h, T(c.sound_speed), T(c.density),
-                                                        gravity_of(c), c.density_method == "continuity")),
+                                                        gravity_of(c))),
         density_update(fluid),
         max_speed(fluid),
         velocity_update_and_max_speed(velocity_update, max_speed),

@@ -16,6 +16,12 @@
 // the water sinks next to the free surface). It is linear in the density differences and acts
 // at any amplitude, where the Riemann dissipation of the pressure relaxation acts on
 // approaching pairs only.
+//
+// It replaces the Riemann velocity dissipation of the continuity equation, (p_i - p_j)/(rho0 c0)
+// (fluid.continuity_dissipation), which is a density diffusion too, about four times as strong
+// as this term at delta = 0.1 and without its hydrostatic part: with the density from the
+// continuity equation alone that one blew up the 3D dam break (docs/sph.md, "Density"), and the
+// two together blew up the 2D one, so a case takes one of them.
 #include "unisph/core/config.hpp"
 #include "unisph/core/vector.hpp"
 #include "unisph/neighbor/neighbor_pair.hpp"
@@ -26,19 +32,10 @@ template <class T, int D>
 struct DensityDiffusion {
   T coefficient = T(0);               // 2 delta h / c0; zero: off
   Vec<T, D> hydrostatic_gradient{};   // rho0 g: the hydrostatic pressure gradient
-  // The Riemann velocity dissipation of the continuity equation, (p_i - p_j) / (rho0 c0), is a
-  // density diffusion too; with the density from the continuity equation alone (nothing resets
-  // it) it must not smooth the hydrostatic gradient away either, so its fluid pairs compare
-  // p_i - rho0 g . r_ij with p_j (docs/sph.md, "Density").
-  bool hydrostatic_dissipation = false;
 
   static DensityDiffusion make(T delta, T smoothing_length, T sound_speed, T reference_density,
-                               const Vec<T, D>& gravity, bool hydrostatic_dissipation) {
-    return {T(2) * delta * smoothing_length / sound_speed, gravity * reference_density, hydrostatic_dissipation};
-  }
-  // p_i as the Riemann velocity dissipation of a fluid pair sees it.
-  UNISPH_HOST_DEVICE T dissipation_pressure(T p_i, const NeighborPair<T, D>& pair) const {
-    return hydrostatic_dissipation ? p_i - dot(hydrostatic_gradient, pair.r_ij) : p_i;
+                               const Vec<T, D>& gravity) {
+    return {T(2) * delta * smoothing_length / sound_speed, gravity * reference_density};
   }
   UNISPH_HOST_DEVICE bool on() const { return coefficient != T(0); }
 

@@ -72,7 +72,7 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
                                  VelocityPressureRead<T, D> s_j = velocity_pressure[j];
                                  const Vec<T, D>& e = pair.direction();
                                  const T divergence = dot(v_i - s_j.velocity, e) +
-                                                      dissipation * riemann.velocity_dissipation(diffusion.dissipation_pressure(p_i, pair), s_j.pressure);
+                                                      dissipation * riemann.velocity_dissipation(p_i, s_j.pressure);
                                  rate += divergence * dW * r_j.volume;
                                  if (diffuse) diffused += diffusion.pair_term(p_i, s_j.pressure, pair, dW, r_j.volume);
                                });
