@@ -3,7 +3,11 @@
 //   3D (cases/dambreak_3d.toml) at dx = 0.05, 0.025, 0.0125, 0.00625 (H = 1)
 // and, in 3D, the same case in the general form (SphDamBreakGeneral: cases/dambreak_general_3d.toml,
 // the tank as shapes) and with an STL pillar in the water's path (SphDamBreakStl:
-// cases/dambreak_stl_3d.toml), so that the forms' speeds can be compared (issue 21).
+// cases/dambreak_stl_3d.toml), so that the forms' speeds can be compared (issue 21); and the
+// cost of a moving wall (issue 22): SphMovingWall times cases/piston_flume_2d.toml at dx = d/50
+// and d/100 with its paddle moving and, the same particles, with the paddle held at rest (its
+// translation removed), from t = 0 (the water stays near its lattice in a flume, so no
+// checkpoint is needed) over the same 1,000 acoustic steps.
 // Each is restarted from a checkpoint at t sqrt(g/H) = 6 (after the impact, not the first
 // steps of a lattice) and timed over 1,000 acoustic steps (whole advection steps: the count
 // reported is the one run). The bench makes a missing checkpoint itself (in a child process,
@@ -74,6 +78,8 @@ struct Config {
   bool single;
   PolicyKind policy;
   double estimated_particles;
+  bool moving_wall_family = false;  // SphMovingWall
+  bool at_rest = false;             // SphMovingWall: the paddle's motion removed
 };
 
 std::string policy_label(PolicyKind k) { return k == PolicyKind::device ? "gpu" : std::string(to_string(k)); }
@@ -164,6 +170,39 @@ fs::path checkpoint_for(const Config& c, const sph::CaseDescription& d) {
 template <class T, int D>
 void run_dam_break_checked(benchmark::State& state, const Config& c);
 
+// A moving wall's cost: the flume from t = 0, with its paddle moving or held at rest.
+template <class T, int D>
+void run_moving_wall(benchmark::State& state, const Config& c) {
+  try {
+    sph::CaseDescription d = description_of(c);
+    if (c.at_rest)
+      for (auto& body : d.bodies) body.translation = {}, body.rotation = {};
+    sph::WeaklyCompressibleSolver<T, D> solver(d, c.policy, /*settle=*/false);
+    solver.advance(1e300);  // warm-up step (copies to the device, first allocations): not timed
+    const std::uint64_t acoustic0 = solver.acoustic_steps(), advection0 = solver.advection_steps();
+    double seconds = 0;
+    for (auto _ : state) {
+      const auto start = std::chrono::steady_clock::now();
+      while (solver.acoustic_steps() - acoustic0 < settings.steps) solver.advance(1e300);
+      solver.observe();
+      seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      state.SetIterationTime(seconds);
+    }
+    const double acoustic = double(solver.acoustic_steps() - acoustic0), fluid = double(solver.fluid_count());
+    state.counters["fluid_particles"] = fluid;
+    state.counters["wall_particles"] = double(solver.wall_count());
+    state.counters["acoustic_steps"] = acoustic;
+    state.counters["advection_steps"] = double(solver.advection_steps() - advection0);
+    state.counters["fluid_steps_per_s"] = acoustic * fluid / seconds;
+    state.counters["seconds_per_acoustic_step"] = seconds / acoustic;
+    state.SetLabel(c.case_file + " 2D dx " + c.dx_name + (c.at_rest ? " paddle at rest " : " paddle moving ") +
+                   (c.single ? "float" : "double") + " " + policy_label(c.policy) +
+                   (c.policy == PolicyKind::par ? " (" + std::to_string(host_threads()) + " threads)" : ""));
+  } catch (const std::exception& e) {
+    state.SkipWithError(e.what());
+  }
+}
+
 template <class T, int D>
 void run_dam_break(benchmark::State& state, const Config& c) {
   try {
@@ -247,11 +286,26 @@ void register_all() {
       for (bool single : {true, false})
         for (PolicyKind k : execution_info().available)
           configs.push_back({file, 3, dx3[s], names3[s], single, k, 1.0 / (dx3[s] * dx3[s] * dx3[s])});
+  for (const char* dx : {"0.02", "0.01"})
+    for (bool at_rest : {false, true})
+      for (bool single : {true, false})
+        for (PolicyKind k : execution_info().available) {
+          const double spacing = std::stod(dx);
+          configs.push_back({"piston_flume_2d.toml", 2, spacing, dx, single, k, 30.0 / (spacing * spacing), true, at_rest});
+        }
   // Ascending particle count (float before double): the device's kept scratch storage then
   // only grows, and the quick cases come first.
   std::stable_sort(configs.begin(), configs.end(),
                    [](const Config& a, const Config& b) { return a.estimated_particles < b.estimated_particles; });
   for (const Config& c : configs) {
+    if (c.moving_wall_family) {
+      const std::string name = std::string("SphMovingWall/2D/") + c.dx_name + "/" + (c.at_rest ? "at_rest/" : "moving/") +
+                               (c.single ? "float/" : "double/") + policy_label(c.policy);
+      benchmark::internal::Benchmark* b = c.single ? benchmark::RegisterBenchmark(name.c_str(), run_moving_wall<float, 2>, c)
+                                                   : benchmark::RegisterBenchmark(name.c_str(), run_moving_wall<double, 2>, c);
+      b->Iterations(1)->UseManualTime()->Unit(benchmark::kMillisecond);
+      continue;
+    }
     const std::string form = c.case_file == "dambreak_general_3d.toml" ? "General" : c.case_file == "dambreak_stl_3d.toml" ? "Stl" : "";
     const std::string name = "SphDamBreak" + form + "/" + (c.dimension == 2 ? "2D/" : "3D/") + c.dx_name + "/" +
                              (c.single ? "float/" : "double/") + policy_label(c.policy);
