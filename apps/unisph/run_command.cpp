@@ -166,6 +166,8 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
               << "\n";
     observers << "time,time_star,front,front_star,kinetic_energy,potential_energy,mass";
     for (const auto& p : description.probes) observers << ",p_" << p.name << ",p_star_" << p.name;
+    for (const auto& v : description.velocity_probes)
+      for (int a = 0; a < description.dimension; ++a) observers << ",velocity_" << v.name << "_" << "xyz"[a];
     for (const auto& g : description.gauges) observers << ",gauge_" << g.name;
     observers << "\n";
   }
@@ -212,6 +214,7 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
               << s.front / description.length_scale << ',' << s.kinetic_energy << ',' << s.potential_energy << ','
               << s.mass;
     for (double p : s.probe_pressure) observers << ',' << p << ',' << p / description.pressure_scale;
+    for (double v : s.probe_velocity) observers << ',' << v;
     for (double g : s.gauge_elevation) observers << ',' << g;
     observers << '\n';
   };

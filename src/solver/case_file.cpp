@@ -582,7 +582,7 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
   }
   Reader r{source};
   r.only_keys(root, "", {"case", "geometry", "domain", "shape", "body", "fluid", "physics", "initial", "time", "report",
-                         "probe", "gauge", "obstacle"});
+                         "probe", "velocity_probe", "gauge", "obstacle"});
   CaseDescription c;
   c.source = source;
 
@@ -756,6 +756,31 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
       const double one = 1.0;
       probe.kernel_width = r.positive(p, "probe.", "kernel_width", &one);
       c.probes.push_back(probe);
+    }
+  }
+
+  // [[velocity_probe]]: points inside the domain, names unique (they name CSV columns).
+  if (const toml::node* probes = root.get("velocity_probe")) {
+    const toml::array* list = probes->as_array();
+    if (!list || !list->is_array_of_tables())
+      r.fail(probes, "velocity_probe", "must be an array of tables [[velocity_probe]]");
+    for (const toml::node& node : *list) {
+      const toml::table& p = *node.as_table();
+      r.only_keys(p, "velocity_probe.", {"name", "position"});
+      VelocityProbeDescription probe;
+      probe.name = r.text(p, "velocity_probe.", "name", nullptr);
+      if (!valid_name(probe.name))
+        r.fail(p.get("name"), "velocity_probe.name", "use letters, digits, '_', '.' or '-' (it names a CSV column)");
+      for (const VelocityProbeDescription& other : c.velocity_probes)
+        if (other.name == probe.name)
+          r.fail(p.get("name"), "velocity_probe.name", "'" + probe.name + "' names two velocity probes");
+      probe.position = r.vector(p, "velocity_probe.", "position", c.dimension, false);
+      if (!c.domain.lower.empty())
+        for (int a = 0; a < c.dimension; ++a)
+          if (probe.position[std::size_t(a)] < c.domain.lower[std::size_t(a)] ||
+              probe.position[std::size_t(a)] > c.domain.upper[std::size_t(a)])
+            r.fail(p.get("position"), "velocity_probe.position", "lies outside the domain (along axis " + std::to_string(a) + ")");
+      c.velocity_probes.push_back(probe);
     }
   }
 

@@ -68,6 +68,11 @@ void write_case(io::CheckpointWriter& out, const CaseDescription& c) {
     out.f64s(p.position);
     out.f64(p.kernel_width);
   }
+  out.u64(c.velocity_probes.size());
+  for (const VelocityProbeDescription& p : c.velocity_probes) {
+    out.string(p.name);
+    out.f64s(p.position);
+  }
   out.u64(c.gauges.size());
   for (const GaugeDescription& g : c.gauges) {
     out.string(g.name);
@@ -158,6 +163,14 @@ CaseDescription read_case(io::CheckpointReader& in) {
     p.position = in.f64s();
     p.kernel_width = in.f64();
     c.probes.push_back(p);
+  }
+  const std::uint64_t velocity_probes = in.u64();
+  if (velocity_probes > 100000) in.fail("holds " + std::to_string(velocity_probes) + " velocity probes (damaged case section)");
+  for (std::uint64_t k = 0; k < velocity_probes; ++k) {
+    VelocityProbeDescription p;
+    p.name = in.string();
+    p.position = in.f64s();
+    c.velocity_probes.push_back(p);
   }
   const std::uint64_t gauges = in.u64();
   if (gauges > 100000) in.fail("holds " + std::to_string(gauges) + " gauges (damaged case section)");
@@ -276,6 +289,9 @@ std::string physics_difference(const CaseDescription& a, const CaseDescription& 
   field("number of probes", int(a.probes.size()), int(b.probes.size()));
   for (std::size_t k = 0; k < a.probes.size() && k < b.probes.size(); ++k)
     field("probe.position", a.probes[k].position, b.probes[k].position);
+  field("number of velocity probes", int(a.velocity_probes.size()), int(b.velocity_probes.size()));
+  for (std::size_t k = 0; k < a.velocity_probes.size() && k < b.velocity_probes.size(); ++k)
+    field("velocity_probe.position", a.velocity_probes[k].position, b.velocity_probes[k].position);
   field("number of obstacles", int(a.obstacles.size()), int(b.obstacles.size()));
   for (std::size_t k = 0; k < a.obstacles.size() && k < b.obstacles.size(); ++k) {
     field("obstacle.file", a.obstacles[k].file, b.obstacles[k].file);

@@ -23,6 +23,7 @@
 #include "unisph/motion/linear_waves.hpp"
 #include "unisph/motion/wave_analysis.hpp"
 #include "unisph/solver/case_file.hpp"
+#include "unisph/smoothing/wendland_kernel.hpp"
 #include "unisph/solver/weakly_compressible_solver.hpp"
 
 using namespace unisph;
@@ -68,7 +69,10 @@ std::string flume_case(double dx, double length, double stroke, double period, s
 UNISPH_POLICY_TEST_SUITE(WaveFlume);
 
 TYPED_TEST(WaveFlume, PolicesAgreeOnAShortPistonFlume) {
-  CaseDescription c = parse_case(flume_case(0.05, 4.0, 0.1, 2.0, {2.0}, 10.0, 0.0), "piston_flume_2d.toml");
+  // With a velocity probe at mid-depth, 1 from the paddle ([[velocity_probe]]).
+  CaseDescription c = parse_case(flume_case(0.05, 4.0, 0.1, 2.0, {2.0}, 10.0, 0.0) +
+                                     "[[velocity_probe]]\nname = \"mid\"\nposition = [1.0, 0.5]\n",
+                                 "piston_flume_2d.toml");
   c.neighbor_search = "stored";  // the same method on every policy
   WeaklyCompressibleSolver<double, 2> reference(c, PolicyKind::seq);
   WeaklyCompressibleSolver<double, 2> solver(c, kind_of<TypeParam>());
@@ -92,6 +96,26 @@ TYPED_TEST(WaveFlume, PolicesAgreeOnAShortPistonFlume) {
   EXPECT_EQ(solver.advection_steps(), reference.advection_steps());
   EXPECT_LE(position, 1e-9);
   EXPECT_LE(velocity / speed, 1e-9);
+  // The velocity probe against its brute-force Shepard average over every water particle.
+  const std::vector<double> probe = solver.observe().probe_velocity;
+  ASSERT_EQ(probe.size(), 2u);
+  const auto m = by_id<double, double, 2>(solver.fluid_body(), "Mass");
+  const auto rho = by_id<double, double, 2>(solver.fluid_body(), "Density");
+  const WendlandC2Kernel<double, 2> kernel = WendlandC2Kernel<double, 2>::from_spacing(c.dx);
+  Vec<double, 2> sum{};
+  double weight = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const double w = kernel.value(norm(Vec<double, 2>{{1.0, 0.5}} - x[i])) * m[i] / rho[i];
+    sum += v[i] * w;
+    weight += w;
+  }
+  const Vec<double, 2> expected = sum * (1 / weight);
+  std::printf("%s piston flume: velocity probe at (1, 0.5) (%.6f, %.6f), brute force (%.6f, %.6f) (bound 1e-9 of the "
+              "largest speed)\n",
+              std::string(TypeParam::test_label).c_str(), probe[0], probe[1], expected[0], expected[1]);
+  EXPECT_GT(norm(expected), 1e-3 * speed) << "the probe should see the wave's motion";
+  EXPECT_LE(std::abs(probe[0] - expected[0]), 1e-9 * speed);
+  EXPECT_LE(std::abs(probe[1] - expected[1]), 1e-9 * speed);
 }
 
 TYPED_TEST(WaveFlume, DISABLED_PistonWaveHeightAtKd1) {

@@ -35,6 +35,13 @@ struct GaugeDescription {
   int line = 0;
 };
 
+// [[velocity_probe]]: the fluid's kernel-averaged velocity at a point (sph/velocity_probe.hpp),
+// written as velocity_<name>_x, _y(, _z) in observers.csv.
+struct VelocityProbeDescription {
+  std::string name;
+  std::vector<double> position;
+};
+
 // A static body from a particle file of `unisph generate` (sph/obstacle_particles.hpp):
 // [[obstacle]] file = "cylinder.vtp" (relative to the case file), translation = [x, y(, z)].
 struct ObstacleDescription {
@@ -203,6 +210,8 @@ struct CaseDescription {
   std::vector<double> moment_point;
   // [[probe]]
   std::vector<ProbeDescription> probes;
+  // [[velocity_probe]]
+  std::vector<VelocityProbeDescription> velocity_probes;
   // [[gauge]]
   std::vector<GaugeDescription> gauges;
   // [[obstacle]]

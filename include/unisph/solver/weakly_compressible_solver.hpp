@@ -39,6 +39,7 @@ struct ObserverSample {
   double potential_energy = 0;  // sum -m g.x
   double mass = 0;
   std::vector<double> probe_pressure;
+  std::vector<double> probe_velocity;   // [[velocity_probe]]: D components per probe (dry: 0)
   std::vector<double> gauge_elevation;  // [[gauge]]: the free surface's level along -g (dry: bottom)
 };
 

@@ -30,6 +30,7 @@
 #include "unisph/solver/solver_checkpoint.hpp"
 #include "unisph/sph/moving_walls.hpp"
 #include "unisph/sph/wall_load.hpp"
+#include "unisph/sph/velocity_probe.hpp"
 #include "unisph/sph/wave_gauge.hpp"
 #include "unisph/sph/prior_acceleration.hpp"
 #include "unisph/motion/motion_table.hpp"
@@ -333,6 +334,15 @@ struct WeaklyCompressibleSolver<T, D>::State {
     check_walls_along_periodic_axes(c, particles, domain, wall_groups, double(kernel.cutoff()));
     make_wall_motions(c);
     if (c.loads) make_wall_load(c);
+    if (!c.velocity_probes.empty()) {
+      std::vector<VelocityProbePoint<T, D>> points;
+      for (const VelocityProbeDescription& v : c.velocity_probes) {
+        Vector x{};
+        for (int a = 0; a < D; ++a) x[a] = T(v.position[std::size_t(a)]);
+        points.push_back({v.name, x});
+      }
+      velocity_probes = std::make_unique<VelocityProbes<T, D>>(fluid, fluid_cells, kernel, points);
+    }
     if (!c.gauges.empty()) {
       std::vector<WaveGaugeLine<T, D>> lines;
       for (const GaugeDescription& g : c.gauges) {
@@ -977,6 +987,9 @@ struct WeaklyCompressibleSolver<T, D>::State {
       // A probe near a periodic face reads the images across it.
       if (fluid_images && !probes.empty()) fluid_images->refresh(p, fluid.pressure, fluid.density, fluid.mass);
       for (auto& probe : probes) s.probe_pressure.push_back(double(probe->exec(p)));
+      if (velocity_probes)
+        for (const VelocityReading<T, D>& r : velocity_probes->measure(p))
+          for (int a = 0; a < D; ++a) s.probe_velocity.push_back(double(r.velocity[a]));
       if (gauges)
         for (const GaugeReading<T>& r : gauges->measure(p)) s.gauge_elevation.push_back(double(r.elevation));
     });
@@ -1000,6 +1013,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
   // advection step, and the mean over the last one.
   std::unique_ptr<WallLoad<T, D>> wall_load;
   std::unique_ptr<WaveGauges<T, D>> gauges;  // [[gauge]]
+  std::unique_ptr<VelocityProbes<T, D>> velocity_probes;  // [[velocity_probe]]
   std::vector<WallBodyLoad<double, D>> load_sum;
   std::vector<WallLoadSample> step_loads;
   double load_time = 0;
