@@ -384,9 +384,7 @@ TYPED_TEST(SphSolver, FloatRunsAndWaterAtRestStaysAtRest) {
 // (fluid.density_method = "continuity", fluid.density_diffusion; what the dam-break cases use):
 // 200 acoustic steps of the dam break agree with seq on every policy, and mass is kept.
 TYPED_TEST(SphSolver, ContinuityDensityWithDiffusionAgreesWithSeq) {
-  const PolicyKind kind = TypeParam::space == MemorySpace::device ? PolicyKind::device
-                          : std::is_same_v<TypeParam, SequencedPolicy> ? PolicyKind::seq
-                                                                       : PolicyKind::par;
+  const PolicyKind kind = unisph::testing::kind_of<TypeParam>();
   CaseDescription c = small_dam_break();
   c.density_method = "continuity";
   c.continuity_dissipation = false;  // delta-SPH's diffusion instead of the Riemann dissipation
