@@ -582,7 +582,7 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
   }
   Reader r{source};
   r.only_keys(root, "", {"case", "geometry", "domain", "shape", "body", "fluid", "physics", "initial", "time", "report",
-                         "probe", "velocity_probe", "gauge", "obstacle"});
+                         "probe", "velocity_probe", "damping_zone", "gauge", "obstacle"});
   CaseDescription c;
   c.source = source;
 
@@ -757,6 +757,24 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
       probe.kernel_width = r.positive(p, "probe.", "kernel_width", &one);
       c.probes.push_back(probe);
     }
+  }
+
+  // [damping_zone]: passive wave absorption (general form: a direction in the domain's axes).
+  if (const toml::node* node = root.get("damping_zone")) {
+    if (!node->as_table()) r.fail(node, "damping_zone", "must be a table [damping_zone]");
+    const toml::table& z = *node->as_table();
+    r.only_keys(z, "damping_zone.", {"direction", "start", "end", "strength", "form"});
+    DampingZoneDescription& d = c.damping_zone;
+    d.direction = r.vector(z, "damping_zone.", "direction", c.dimension, false);
+    double length2 = 0;
+    for (double x : d.direction) length2 += x * x;
+    if (!(length2 > 0)) r.fail(z.get("direction"), "damping_zone.direction", "must not be zero");
+    d.start = r.number(z, "damping_zone.", "start", nullptr);
+    d.end = r.number(z, "damping_zone.", "end", nullptr);
+    if (!(d.end > d.start)) r.fail(z.get("end"), "damping_zone.end", "must be beyond damping_zone.start");
+    d.strength = r.non_negative(z, "damping_zone.", "strength", 0.0);
+    if (!z.get("strength")) r.fail(&z, "damping_zone.strength", "missing value");
+    d.form = r.choice(z, "damping_zone.", "form", {"linear", "exponential"});
   }
 
   // [[velocity_probe]]: points inside the domain, names unique (they name CSV columns).

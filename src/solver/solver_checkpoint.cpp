@@ -68,6 +68,11 @@ void write_case(io::CheckpointWriter& out, const CaseDescription& c) {
     out.f64s(p.position);
     out.f64(p.kernel_width);
   }
+  out.f64s(c.damping_zone.direction);
+  out.f64(c.damping_zone.start);
+  out.f64(c.damping_zone.end);
+  out.f64(c.damping_zone.strength);
+  out.string(c.damping_zone.form);
   out.u64(c.velocity_probes.size());
   for (const VelocityProbeDescription& p : c.velocity_probes) {
     out.string(p.name);
@@ -164,6 +169,11 @@ CaseDescription read_case(io::CheckpointReader& in) {
     p.kernel_width = in.f64();
     c.probes.push_back(p);
   }
+  c.damping_zone.direction = in.f64s();
+  c.damping_zone.start = in.f64();
+  c.damping_zone.end = in.f64();
+  c.damping_zone.strength = in.f64();
+  c.damping_zone.form = in.string();
   const std::uint64_t velocity_probes = in.u64();
   if (velocity_probes > 100000) in.fail("holds " + std::to_string(velocity_probes) + " velocity probes (damaged case section)");
   for (std::uint64_t k = 0; k < velocity_probes; ++k) {
@@ -289,6 +299,11 @@ std::string physics_difference(const CaseDescription& a, const CaseDescription& 
   field("number of probes", int(a.probes.size()), int(b.probes.size()));
   for (std::size_t k = 0; k < a.probes.size() && k < b.probes.size(); ++k)
     field("probe.position", a.probes[k].position, b.probes[k].position);
+  field("damping_zone.direction", a.damping_zone.direction, b.damping_zone.direction);
+  field("damping_zone.start", a.damping_zone.start, b.damping_zone.start);
+  field("damping_zone.end", a.damping_zone.end, b.damping_zone.end);
+  field("damping_zone.strength", a.damping_zone.strength, b.damping_zone.strength);
+  field("damping_zone.form", a.damping_zone.form, b.damping_zone.form);
   field("number of velocity probes", int(a.velocity_probes.size()), int(b.velocity_probes.size()));
   for (std::size_t k = 0; k < a.velocity_probes.size() && k < b.velocity_probes.size(); ++k)
     field("velocity_probe.position", a.velocity_probes[k].position, b.velocity_probes[k].position);

@@ -35,6 +35,15 @@ struct GaugeDescription {
   int line = 0;
 };
 
+// [damping_zone]: passive wave absorption (sph/damping_zone.hpp): the fluid's velocity relaxed
+// towards zero at the rate strength xi^2, xi = 0 ... 1 from `start` to `end` along `direction`.
+struct DampingZoneDescription {
+  std::vector<double> direction;  // empty: no zone
+  double start = 0, end = 0, strength = 0;
+  std::string form = "linear";  // or "exponential"
+  bool present() const { return !direction.empty(); }
+};
+
 // [[velocity_probe]]: the fluid's kernel-averaged velocity at a point (sph/velocity_probe.hpp),
 // written as velocity_<name>_x, _y(, _z) in observers.csv.
 struct VelocityProbeDescription {
@@ -212,6 +221,8 @@ struct CaseDescription {
   std::vector<ProbeDescription> probes;
   // [[velocity_probe]]
   std::vector<VelocityProbeDescription> velocity_probes;
+  // [damping_zone]
+  DampingZoneDescription damping_zone;
   // [[gauge]]
   std::vector<GaugeDescription> gauges;
   // [[obstacle]]

@@ -18,6 +18,7 @@
 #include "unisph/neighbor/pair_counts.hpp"
 #include "unisph/neighbor/periodic_images.hpp"
 #include "unisph/neighbor/particle_sorter.hpp"
+#include "unisph/sph/damping_zone.hpp"
 #include "unisph/sph/density_relaxation.hpp"
 #include "unisph/sph/density_summation.hpp"
 #include "unisph/sph/image_records.hpp"
@@ -334,6 +335,13 @@ struct WeaklyCompressibleSolver<T, D>::State {
     check_walls_along_periodic_axes(c, particles, domain, wall_groups, double(kernel.cutoff()));
     make_wall_motions(c);
     if (c.loads) make_wall_load(c);
+    if (c.damping_zone.present()) {
+      Vector e{};
+      for (int a = 0; a < D; ++a) e[a] = T(c.damping_zone.direction[std::size_t(a)]);
+      damping_zone = std::make_unique<DampingZone<T, D>>(
+          fluid, e, T(c.damping_zone.start), T(c.damping_zone.end), T(c.damping_zone.strength),
+          c.damping_zone.form == "exponential" ? DampingForm::exponential : DampingForm::linear);
+    }
     if (!c.velocity_probes.empty()) {
       std::vector<VelocityProbePoint<T, D>> points;
       for (const VelocityProbeDescription& v : c.velocity_probes) {
@@ -782,6 +790,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
         sample_loads(p, dt);
         speed = double(velocity_update_and_max_speed.exec(p, Real(dt)));
         if (damping_rate > 0) velocity_damping.exec(p, Real(std::exp(-damping_rate * dt)));
+        if (damping_zone) damping_zone->exec(p, Real(dt));  // [damping_zone]: wave absorption
         if (fluid_images) refresh_image_records(p);
         density_relaxation.exec(p, Real(dt));
         relaxed += dt;
@@ -1014,6 +1023,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
   std::unique_ptr<WallLoad<T, D>> wall_load;
   std::unique_ptr<WaveGauges<T, D>> gauges;  // [[gauge]]
   std::unique_ptr<VelocityProbes<T, D>> velocity_probes;  // [[velocity_probe]]
+  std::unique_ptr<DampingZone<T, D>> damping_zone;          // [damping_zone]
   std::vector<WallBodyLoad<double, D>> load_sum;
   std::vector<WallLoadSample> step_loads;
   double load_time = 0;
