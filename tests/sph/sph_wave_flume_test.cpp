@@ -69,9 +69,11 @@ std::string flume_case(double dx, double length, double stroke, double period, s
 UNISPH_POLICY_TEST_SUITE(WaveFlume);
 
 TYPED_TEST(WaveFlume, PolicesAgreeOnAShortPistonFlume) {
-  // With a velocity probe at mid-depth, 1 from the paddle ([[velocity_probe]]).
+  // With a velocity probe at mid-depth, 1 from the paddle ([[velocity_probe]]), and a damping zone
+  // from 1.5 to the far wall that the wave reaches within the run ([damping_zone]).
   CaseDescription c = parse_case(flume_case(0.05, 4.0, 0.1, 2.0, {2.0}, 10.0, 0.0) +
-                                     "[[velocity_probe]]\nname = \"mid\"\nposition = [1.0, 0.5]\n",
+                                     "[[velocity_probe]]\nname = \"mid\"\nposition = [1.0, 0.5]\n"
+                                     "[damping_zone]\ndirection = [1.0, 0.0]\nstart = 1.5\nend = 4.0\nstrength = 2.0\n",
                                  "piston_flume_2d.toml");
   c.neighbor_search = "stored";  // the same method on every policy
   WeaklyCompressibleSolver<double, 2> reference(c, PolicyKind::seq);
