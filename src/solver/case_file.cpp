@@ -310,6 +310,15 @@ bool valid_name(const std::string& name) {
   return true;
 }
 
+// A point of a measurement (gauge, velocity probe) must lie in the general form's domain.
+void fail_outside_domain(const Reader& r, const CaseDescription& c, const toml::node* node, const std::string& key,
+                         const std::vector<double>& position) {
+  if (c.domain.lower.empty()) return;
+  for (int a = 0; a < c.dimension; ++a)
+    if (position[std::size_t(a)] < c.domain.lower[std::size_t(a)] || position[std::size_t(a)] > c.domain.upper[std::size_t(a)])
+      r.fail(node, key, "lies outside the domain (along axis " + std::to_string(a) + ")");
+}
+
 const toml::array& tables(const Reader& r, const toml::node* node, const std::string& key) {
   const toml::array* list = node->as_array();
   if (!list || !list->is_array_of_tables()) r.fail(node, key, "must be an array of tables [[" + key + "]]");
@@ -793,11 +802,7 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
         if (other.name == probe.name)
           r.fail(p.get("name"), "velocity_probe.name", "'" + probe.name + "' names two velocity probes");
       probe.position = r.vector(p, "velocity_probe.", "position", c.dimension, false);
-      if (!c.domain.lower.empty())
-        for (int a = 0; a < c.dimension; ++a)
-          if (probe.position[std::size_t(a)] < c.domain.lower[std::size_t(a)] ||
-              probe.position[std::size_t(a)] > c.domain.upper[std::size_t(a)])
-            r.fail(p.get("position"), "velocity_probe.position", "lies outside the domain (along axis " + std::to_string(a) + ")");
+      fail_outside_domain(r, c, p.get("position"), "velocity_probe.position", probe.position);
       c.velocity_probes.push_back(probe);
     }
   }
@@ -820,10 +825,7 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
       gauge.bottom = r.number(g, "gauge.", "bottom", nullptr);
       gauge.top = r.number(g, "gauge.", "top", nullptr);
       if (!(gauge.top > gauge.bottom)) r.fail(g.get("top"), "gauge.top", "must be above gauge.bottom");
-      if (!c.domain.lower.empty())
-        for (int a = 0; a < c.dimension; ++a)
-          if (gauge.position[std::size_t(a)] < c.domain.lower[std::size_t(a)] || gauge.position[std::size_t(a)] > c.domain.upper[std::size_t(a)])
-            r.fail(g.get("position"), "gauge.position", "lies outside the domain (along axis " + std::to_string(a) + ")");
+      fail_outside_domain(r, c, g.get("position"), "gauge.position", gauge.position);
       c.gauges.push_back(gauge);
     }
   }

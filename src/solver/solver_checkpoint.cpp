@@ -28,6 +28,13 @@ MotionDescription read_motion(io::CheckpointReader& in) {
   m.line = int(in.u32());
   return m;
 }
+// The length of a list in the case section, bounded so that a damaged file cannot ask for
+// billions of entries.
+std::uint64_t read_count(io::CheckpointReader& in, const char* what) {
+  const std::uint64_t n = in.u64();
+  if (n > 100000) in.fail("holds " + std::to_string(n) + " " + what + " (damaged case section)");
+  return n;
+}
 }  // namespace
 
 void write_case(io::CheckpointWriter& out, const CaseDescription& c) {
@@ -160,8 +167,7 @@ CaseDescription read_case(io::CheckpointReader& in) {
   c.pressure_scale = in.f64();
   c.loads = in.u32() != 0;
   c.moment_point = in.f64s();
-  const std::uint64_t probes = in.u64();
-  if (probes > 100000) in.fail("holds " + std::to_string(probes) + " probes (damaged case section)");
+  const std::uint64_t probes = read_count(in, "probes");
   for (std::uint64_t k = 0; k < probes; ++k) {
     ProbeDescription p;
     p.name = in.string();
@@ -174,16 +180,14 @@ CaseDescription read_case(io::CheckpointReader& in) {
   c.damping_zone.end = in.f64();
   c.damping_zone.strength = in.f64();
   c.damping_zone.form = in.string();
-  const std::uint64_t velocity_probes = in.u64();
-  if (velocity_probes > 100000) in.fail("holds " + std::to_string(velocity_probes) + " velocity probes (damaged case section)");
+  const std::uint64_t velocity_probes = read_count(in, "velocity probes");
   for (std::uint64_t k = 0; k < velocity_probes; ++k) {
     VelocityProbeDescription p;
     p.name = in.string();
     p.position = in.f64s();
     c.velocity_probes.push_back(p);
   }
-  const std::uint64_t gauges = in.u64();
-  if (gauges > 100000) in.fail("holds " + std::to_string(gauges) + " gauges (damaged case section)");
+  const std::uint64_t gauges = read_count(in, "gauges");
   for (std::uint64_t k = 0; k < gauges; ++k) {
     GaugeDescription g;
     g.name = in.string();
@@ -193,8 +197,7 @@ CaseDescription read_case(io::CheckpointReader& in) {
     g.line = int(in.u32());
     c.gauges.push_back(g);
   }
-  const std::uint64_t obstacles = in.u64();
-  if (obstacles > 100000) in.fail("holds " + std::to_string(obstacles) + " obstacles (damaged case section)");
+  const std::uint64_t obstacles = read_count(in, "obstacles");
   for (std::uint64_t k = 0; k < obstacles; ++k) {
     ObstacleDescription o;
     o.file = in.string();
@@ -216,8 +219,7 @@ CaseDescription read_case(io::CheckpointReader& in) {
     c.domain.periodic.push_back(int(a));
   }
   c.domain.periodic_line = int(in.u32());
-  const std::uint64_t shapes = in.u64();
-  if (shapes > 100000) in.fail("holds " + std::to_string(shapes) + " shapes (damaged case section)");
+  const std::uint64_t shapes = read_count(in, "shapes");
   for (std::uint64_t k = 0; k < shapes; ++k) {
     ShapeDescription s;
     s.name = in.string();
@@ -235,8 +237,7 @@ CaseDescription read_case(io::CheckpointReader& in) {
     s.line = int(in.u32());
     c.shapes.push_back(std::move(s));
   }
-  const std::uint64_t bodies = in.u64();
-  if (bodies > 100000) in.fail("holds " + std::to_string(bodies) + " bodies (damaged case section)");
+  const std::uint64_t bodies = read_count(in, "bodies");
   for (std::uint64_t k = 0; k < bodies; ++k) {
     BodyDescription b;
     b.name = in.string();

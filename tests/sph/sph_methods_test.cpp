@@ -245,6 +245,15 @@ void run_acoustic_steps(WeaklyCompressibleSolver<T, 2>& solver, std::uint64_t st
   while (solver.acoustic_steps() < steps) solver.advance(1e9);
 }
 
+// The largest distance between the same particle in two runs, over the tank's size (5.366).
+template <class T>
+double largest_position_difference(WeaklyCompressibleSolver<T, 2>& a, WeaklyCompressibleSolver<T, 2>& b) {
+  const auto x = positions_by_id(a), y = positions_by_id(b);
+  double worst = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) worst = std::max(worst, double(norm(x[i] - y[i])));
+  return worst / 5.366;
+}
+
 }  // namespace
 
 // time.last_acoustic_step: an advection step from rest ends at Dt = 0.25 h / U exactly when its
@@ -273,9 +282,7 @@ TEST(HostSphSolver, LastAcousticStepShortenedOrFull) {
 UNISPH_POLICY_TEST_SUITE(SphSolver);
 
 TYPED_TEST(SphSolver, DamBreakAgreesWithSeqAndConservesMass) {
-  const PolicyKind kind = TypeParam::space == MemorySpace::device ? PolicyKind::device
-                          : std::is_same_v<TypeParam, SequencedPolicy> ? PolicyKind::seq
-                                                                       : PolicyKind::par;
+  const PolicyKind kind = unisph::testing::kind_of<TypeParam>();
   WeaklyCompressibleSolver<double, 2> reference(small_dam_break(), PolicyKind::seq);
   WeaklyCompressibleSolver<double, 2> solver(small_dam_break(), kind);
   const ObserverSample s0 = solver.observe();
@@ -284,11 +291,7 @@ TYPED_TEST(SphSolver, DamBreakAgreesWithSeqAndConservesMass) {
   run_acoustic_steps(solver, 200);
   EXPECT_EQ(solver.acoustic_steps(), reference.acoustic_steps());
   EXPECT_EQ(solver.time(), reference.time()) << "the step sizes differ";
-  const auto a = positions_by_id(reference);
-  const auto b = positions_by_id(solver);
-  double worst = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) worst = std::max(worst, norm(a[i] - b[i]));
-  const double relative = worst / 5.366;
+  const double relative = largest_position_difference(reference, solver);
   std::printf("[ measured ] 200+ acoustic steps on %s: largest position difference from seq %.3e of the tank size "
               "(bound 1e-9)\n",
               std::string(TypeParam::test_label).c_str(), relative);
@@ -302,9 +305,7 @@ TYPED_TEST(SphSolver, DamBreakAgreesWithSeqAndConservesMass) {
 // The GPU's default: a direct search over cells of half the cutoff, which reads x_j from the
 // neighbour records (neighbor_records.hpp); the same search on seq is the reference.
 TYPED_TEST(SphSolver, DirectSearchThroughNeighborRecordsAgreesWithSeq) {
-  const PolicyKind kind = TypeParam::space == MemorySpace::device ? PolicyKind::device
-                          : std::is_same_v<TypeParam, SequencedPolicy> ? PolicyKind::seq
-                                                                       : PolicyKind::par;
+  const PolicyKind kind = unisph::testing::kind_of<TypeParam>();
   CaseDescription c = small_dam_break();
   c.neighbor_search = "direct";
   c.cells_per_cutoff = 2;
@@ -314,11 +315,7 @@ TYPED_TEST(SphSolver, DirectSearchThroughNeighborRecordsAgreesWithSeq) {
   run_acoustic_steps(reference, 200);
   run_acoustic_steps(solver, 200);
   EXPECT_EQ(solver.acoustic_steps(), reference.acoustic_steps());
-  const auto a = positions_by_id(reference);
-  const auto b = positions_by_id(solver);
-  double worst = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) worst = std::max(worst, norm(a[i] - b[i]));
-  const double relative = worst / 5.366;
+  const double relative = largest_position_difference(reference, solver);
   std::printf("[ measured ] 200+ acoustic steps, direct search, on %s: largest position difference from seq %.3e of "
               "the tank size (bound 1e-9)\n",
               std::string(TypeParam::test_label).c_str(), relative);
@@ -395,13 +392,11 @@ TYPED_TEST(SphSolver, ContinuityDensityWithDiffusionAgreesWithSeq) {
   run_acoustic_steps(reference, 200);
   run_acoustic_steps(solver, 200);
   EXPECT_EQ(solver.acoustic_steps(), reference.acoustic_steps());
-  const auto a = positions_by_id(reference), b = positions_by_id(solver);
-  double worst = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) worst = std::max(worst, norm(a[i] - b[i]));
+  const double relative = largest_position_difference(reference, solver);
   std::printf("[ measured ] continuity density with diffusion, 200+ acoustic steps on %s: largest position difference "
               "from seq %.3e of the tank size (bound 1e-9)\n",
-              std::string(TypeParam::test_label).c_str(), worst / 5.366);
-  EXPECT_LE(worst / 5.366, 1e-9);
+              std::string(TypeParam::test_label).c_str(), relative);
+  EXPECT_LE(relative, 1e-9);
   EXPECT_EQ(solver.observe().mass, mass0);
 }
 
