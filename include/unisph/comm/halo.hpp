@@ -34,20 +34,26 @@
 
 namespace unisph::comm {
 
-template <int D>
+// S: the scalar of the position variable that gather() shifts (a solver in float under a
+// double build); the plan is built from positions in Real.
+template <int D, class S = Real>
 class Halo {
  public:
-  using Position = Vec<Real, D>;
+  using Position = Vec<S, D>;
+  using PlanPosition = Vec<Real, D>;
 
-  Halo(const Communicator& comm, const Decomposition<D>& decomposition, View<const Position> positions, Real cutoff)
+  Halo(const Communicator& comm, const Decomposition<D>& decomposition, View<const PlanPosition> positions, Real cutoff)
       : plan_(build(comm, decomposition, positions, cutoff)) {
-    shift_.assign(shifts_);
+    std::vector<Position> shifts(shifts_.size());
+    for (std::size_t k = 0; k < shifts_.size(); ++k)
+      for (int a = 0; a < D; ++a) shifts[k][a] = static_cast<S>(shifts_[k][a]);
+    shift_.assign(shifts);
   }
 
   const Plan& plan() const { return plan_; }
   Index ghost_count() const { return plan_.import_count(); }
   // The image shift of each send item (in the plan's send order).
-  std::span<const Position> shifts() const { return shifts_; }
+  std::span<const PlanPosition> shifts() const { return shifts_; }
 
   // Resizes the registry to owned_count + ghost_count() and fills the ghosts of the named
   // variables (none named: every sortable variable). `position` names the position variable
@@ -111,7 +117,7 @@ class Halo {
         });
   }
 
-  Plan build(const Communicator& comm, const Decomposition<D>& d, View<const Position> positions, Real cutoff) {
+  Plan build(const Communicator& comm, const Decomposition<D>& d, View<const PlanPosition> positions, Real cutoff) {
     const CellGrid<D>& g = d.grid();
     if (d.ranks() != comm.size())
       throw Error("halo: the decomposition is for " + std::to_string(d.ranks()) + " ranks, the run has " +
@@ -121,10 +127,10 @@ class Halo {
         throw Error("halo: cells " + std::to_string(g.cell_size[a]) + " wide along axis " + std::to_string(a) +
                     " are narrower than the cutoff " + std::to_string(cutoff) + " (make_cell_grid(box, cutoff))");
     const Real cutoff2 = cutoff * cutoff;
-    const Position period = g.period();
+    const PlanPosition period = g.period();
     std::vector<std::uint32_t> index;
     std::vector<int> rank;
-    std::vector<Position> shift;
+    std::vector<PlanPosition> shift;
     int offsets = 1;
     for (int a = 0; a < D; ++a) offsets *= 3;
     struct Target {
@@ -133,7 +139,7 @@ class Halo {
     };
     std::vector<Target> targets;
     for (Index i = 0; i < positions.size(); ++i) {
-      const Position x = positions[i];
+      const PlanPosition x = positions[i];
       const Vec<int, D> c = g.cell_of(x);
       targets.clear();
       for (int o = 0; o < offsets; ++o) {
@@ -152,7 +158,7 @@ class Halo {
           }
         }
         if (!inside) continue;
-        Position y = x;
+        PlanPosition y = x;
         bool zero = true;
         for (int a = 0; a < D; ++a) {
           y[a] += static_cast<Real>(image[a]) * period[a];
@@ -179,7 +185,7 @@ class Halo {
         targets.push_back({r, image});
         index.push_back(static_cast<std::uint32_t>(i));
         rank.push_back(r);
-        Position s{};
+        PlanPosition s{};
         for (int a = 0; a < D; ++a) s[a] = static_cast<Real>(image[a]) * period[a];
         shift.push_back(s);
         max_index_ = i;
@@ -198,7 +204,7 @@ class Halo {
   }
 
   Index max_index_ = 0;
-  std::vector<Position> shifts_;
+  std::vector<PlanPosition> shifts_;
   Plan plan_;
   DiscreteVariable<Position> shift_{"Halo.Shift"};
   VariableExchange exchange_;

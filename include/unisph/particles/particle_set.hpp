@@ -116,6 +116,23 @@ class ParticleSet {
                  particle_set_detail::MapIdsToIndices{ids().read(policy), first_id_, index_of_id_.read_write(policy)});
   }
 
+  // Takes `count` owned particles and no ghosts after the registry was resized to `count` from
+  // outside (a migration between ranks, comm/migrate.hpp, which keeps the particles that stay
+  // and appends the arrivals), and maps the ids again. Every id must lie in [first_id,
+  // first_id + the owned count the set was made with): a set split among ranks is made whole on
+  // each, so that its ids are global, and then keeps its share.
+  template <ExecutionPolicy P>
+  void adopt_owned(P policy, Index count) {
+    if (variables_.size() != count)
+      throw Error("particle set '" + name_ + "': adopt_owned(" + std::to_string(count) + ") but the variables hold " +
+                  std::to_string(variables_.size()) + " particles");
+    owned_ = count;
+    ghosts_ = 0;
+    particle_for(policy, index_of_id_.size(), particle_set_detail::FillIndex{index_of_id_.write(policy), absent_particle_index});
+    particle_for(policy, owned_,
+                 particle_set_detail::MapIdsToIndices{ids().read(policy), first_id_, index_of_id_.read_write(policy)});
+  }
+
   // Moves owned particle permutation[k] to index k, for every sortable variable, and
   // refreshes index_of_id(). `permutation` is a permutation of [0, owned_count()) in the
   // policy's memory space.

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "unisph/comm/communicator.hpp"
 #include "unisph/core/error.hpp"
 #include "unisph/exec/policy.hpp"
 #include "unisph/particles/body.hpp"
@@ -80,6 +81,14 @@ class WeaklyCompressibleSolver {
   // Makes the particles and, where the case asks for it, settles them (initial.settling_time).
   // `settle` = false skips the settling: for a solver whose state a checkpoint restores next.
   WeaklyCompressibleSolver(const CaseDescription& description, PolicyKind policy, bool settle = true);
+  // The same case on the ranks of `comm` (collective; docs/multi_gpu.md): every rank makes the
+  // whole case and keeps the particles of its part of the domain, and each advection step
+  // exchanges ghosts and migrating particles with the other ranks. Observers and loads are those
+  // of the whole fluid on every rank; the counts and bodies below are this rank's. On one rank it
+  // is the constructor above. Not yet on several ranks: periodic axes, gauges, velocity probes,
+  // checkpoints (each refused with one line).
+  WeaklyCompressibleSolver(const CaseDescription& description, PolicyKind policy, const comm::Communicator& comm,
+                           bool settle = true);
   ~WeaklyCompressibleSolver();
   WeaklyCompressibleSolver(const WeaklyCompressibleSolver&) = delete;
   WeaklyCompressibleSolver& operator=(const WeaklyCompressibleSolver&) = delete;
@@ -92,7 +101,12 @@ class WeaklyCompressibleSolver {
   std::uint64_t advection_steps() const;
   std::uint64_t acoustic_steps() const;
   const SettlingReport& settling() const;
-  Index fluid_count() const;
+  Index fluid_count() const;  // owned by this rank
+  std::uint64_t fluid_count_all_ranks() const;  // collective on several ranks
+  // Several ranks: fluid and wall particles this rank sent to others, and how often the domain
+  // was cut anew (0 on one rank).
+  std::uint64_t particles_migrated() const;
+  std::uint64_t rebalances() const;
   Index wall_count() const;  // the tank's wall and the obstacles'
   // Wall particles of each obstacle of the case; the wall body's particle ids are the tank's
   // first, then each obstacle's in turn.

@@ -28,6 +28,7 @@
 #include "unisph/solver/body_particles.hpp"
 #include "unisph/solver/obstacle_particles.hpp"
 #include "unisph/sph/pressure_relaxation.hpp"
+#include "unisph/solver/rank_share.hpp"
 #include "unisph/solver/solver_checkpoint.hpp"
 #include "unisph/sph/moving_walls.hpp"
 #include "unisph/sph/wall_load.hpp"
@@ -275,8 +276,20 @@ struct WeaklyCompressibleSolver<T, D>::State {
     return WallFreeBox<T, D>::around(walls, lower, upper, seed, cutoff);
   }
 
-  State(const CaseDescription& c, PolicyKind kind, bool settle_now)
-      : description(checked(c)),
+  // On several ranks (comm->size() > 1): what the solver cannot do there yet, one line each.
+  static const CaseDescription& checked_for_ranks(const CaseDescription& c, const comm::Communicator* comm) {
+    if (!comm || comm->size() == 1) return c;
+    const auto refuse = [&](const std::string& what) {
+      throw Error("case '" + c.name + "': " + what + " on several ranks is not available yet (docs/multi_gpu.md); run it on one rank");
+    };
+    if (!c.domain.periodic.empty()) refuse("domain.periodic");
+    if (!c.gauges.empty()) refuse("[[gauge]]");
+    if (!c.velocity_probes.empty()) refuse("[[velocity_probe]]");
+    return c;
+  }
+
+  State(const CaseDescription& c, PolicyKind kind, bool settle_now, const comm::Communicator* comm)
+      : description(checked(checked_for_ranks(c, comm))),
         policy(kind),
         kernel(WendlandC2Kernel<T, D>::from_spacing(T(c.dx))),
         particles(particles_of(c, kind)),
@@ -330,7 +343,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
       Vector x{};
       for (int a = 0; a < D; ++a) x[a] = T(p.position[a]);
       probes.push_back(std::make_unique<PressureProbe<T, D>>(
-          fluid, WendlandC2Kernel<T, D>::from_spacing(T(c.dx * p.kernel_width)), x));
+          fluid, WendlandC2Kernel<T, D>::from_spacing(T(c.dx * p.kernel_width)), x, !(comm && comm->size() > 1)));
     }
     check_walls_along_periodic_axes(c, particles, domain, wall_groups, double(kernel.cutoff()));
     make_wall_motions(c);
@@ -366,8 +379,53 @@ struct WeaklyCompressibleSolver<T, D>::State {
         throw CaseFileError(c.source + ":" + std::to_string(c.gauges.front().line) + ": key 'gauge': " + e.what());
       }
     }
+    if (comm && comm->size() > 1) {
+      MemorySpace space = MemorySpace::host;
+      visit_policy(policy, [&](auto p) { space = decltype(p)::space; });
+      // The skin: a particle moves at most 0.25 h per advection step while its speed holds
+      // (Dt = 0.25 h / |v|max); h leaves room for speeds that double within the step.
+      share = std::make_unique<RankShare<T, D>>(*comm, domain, kernel.cutoff(), kernel.h, space, rebalance_fraction);
+    }
     initialise();
     if (settle_now) settle();
+  }
+
+  // Several ranks: the owned fluid counts may drift this far above their mean (max / mean - 1)
+  // before the domain is cut anew.
+  static constexpr double rebalance_fraction = 0.1;
+
+  // The largest of the ranks' values (one rank: x). A non-finite value on any rank gives +inf
+  // on all, so that every rank takes the same branch.
+  double global_max(double x) const {
+    if (!share) return x;
+    return share->comm().allreduce_max(std::isfinite(x) ? x : std::numeric_limits<double>::infinity());
+  }
+  std::uint64_t global_sum(std::uint64_t x) const { return share ? share->comm().allreduce_sum(x) : x; }
+  double global_sum(double x) const { return share ? share->comm().allreduce_sum(x) : x; }
+
+  // A run that cannot go on. On several ranks every rank calls this at the same point (the
+  // condition is global), and every rank stops with rank 0's line (comm::RankFailure).
+  [[noreturn]] void fail(const std::string& message) {
+    if (share) share->comm().check_all(share->comm().rank() != 0, message);
+    throw SimulationError(message);
+  }
+
+  // Several ranks: the ghosts' positions and neighbour records from their owners, before a pass
+  // that reads them.
+  template <class P>
+  void refresh_ghost_records(P p) {
+    static const std::vector<std::string> names{fluid.position.name(), fluid.neighbor_position_volume.name(),
+                                                fluid.neighbor_velocity_pressure.name()};
+    share->refresh(p, fluid_body, *fluid_halo, names);
+  }
+  // Several ranks: wall particles to the owners of their cells, sorted, their ghosts gathered,
+  // binned (after a rebalance, and after moving walls moved).
+  template <class P>
+  void redistribute_walls(P p, bool sort_now) {
+    share->migrate(p, wall_body);
+    if (sort_now) wall_sorter.sort(p);
+    share->gather(p, wall_body, wall_halo);
+    wall_cells.build(p);
   }
 
   // The law of one motion description (case_description.hpp); angles in degrees become radians.
@@ -468,6 +526,11 @@ struct WeaklyCompressibleSolver<T, D>::State {
   }
   void finish_loads() {
     if (!wall_load || !(load_time > 0)) return;
+    if (share)  // each rank summed the loads of its own fluid particles
+      for (WallBodyLoad<double, D>& b : load_sum) {
+        for (int a = 0; a < D; ++a) b.force[a] = global_sum(b.force[a]);
+        for (int a = 0; a < moment_components<D>; ++a) b.moment[a] = global_sum(b.moment[a]);
+      }
     step_loads.assign(load_sum.size(), WallLoadSample{});
     for (std::size_t b = 0; b < load_sum.size(); ++b) {
       for (int a = 0; a < D; ++a) step_loads[b].force.push_back(load_sum[b].force[a] / load_time);
@@ -506,11 +569,13 @@ struct WeaklyCompressibleSolver<T, D>::State {
     }
     visit_policy(policy, [&](auto p) {
       refresh_records.exec(p);
+      if (share) refresh_ghost_records(p);
       if (move_walls) {
         // The walls leave their hold: their state at time 0 (a table may start displaced).
         walls_held = false;
         place_walls(p, 0.0);
-        build_wall(p);
+        if (share) redistribute_walls(p, true);
+        else build_wall(p);
         rebuild(p);
       }
     });
@@ -593,6 +658,19 @@ struct WeaklyCompressibleSolver<T, D>::State {
     }
     visit_policy(policy, [&](auto p) {
       place_walls(p, 0.0);
+      if (share) {
+        // Every rank made the whole case (the same particles and ids); each keeps its share.
+        share->decompose(fluid_body);
+        share->keep_owned(p, fluid_body);
+        share->keep_owned(p, wall_body);
+        wall_sorter.sort(p);
+        share->gather(p, wall_body, wall_halo);
+        wall_cells.build(p);
+        fluid_sorter.sort(p);
+        share->gather(p, fluid_body, fluid_halo);
+        rebuild(p);
+        return;
+      }
       wall_sorter.sort(p);
       build_wall(p);
       fluid_sorter.sort(p);
@@ -639,17 +717,27 @@ struct WeaklyCompressibleSolver<T, D>::State {
       inner.set_source_count(fluid.size());
       contact.set_source_count(fluid.size());
     }
+    if (share) {
+      // Ghosts from other ranks are neighbours, never sources.
+      inner.set_source_count(fluid.size());
+      contact.set_source_count(fluid.size());
+    }
     fluid_cells.build(p);
     // With stored lists, dW/dr of each pair is cached with its geometry (the relaxations read it).
     inner.update(p, PairKernelDerivative<T, D>{kernel});
     contact.update(p, PairKernelDerivative<T, D>{kernel});
     // After a sort or a restore the relaxations' neighbour records follow the new order.
     refresh_records.exec(p);
+    if (share) refresh_ghost_records(p);
     const CellListReport report = fluid_cells.report();
-    if (report.non_finite != 0 || (report.out_of_box != 0 && description.domain.leaving != "remove"))
+    // On several ranks the counts of all (a ghost outside is counted again; only zero matters).
+    const std::uint64_t non_finite = global_sum(std::uint64_t(report.non_finite));
+    const std::uint64_t out_of_box = global_sum(std::uint64_t(report.out_of_box));
+    if (non_finite != 0 || (out_of_box != 0 && description.domain.leaving != "remove"))
       diagnose("a fluid particle left the domain");
-    if (report.out_of_box != 0) {
+    if (out_of_box != 0) {
       remove_leaving(p);
+      if (share) share->gather(p, fluid_body, fluid_halo);
       rebuild(p);
     }
   }
@@ -677,8 +765,14 @@ struct WeaklyCompressibleSolver<T, D>::State {
           removed_mass += double(m[i]);
         }
     }
-    removed_particles += n - kept;
-    if (kept == 0) diagnose("every fluid particle has left the domain");
+    removed_particles += Index(global_sum(std::uint64_t(n - kept)));
+    if (share) {
+      double mass = 0;
+      View<const T> m = fluid.mass.read(MemorySpace::host);
+      for (std::size_t k = kept; k < order.size(); ++k) mass += double(m[order[k]]);
+      removed_mass += global_sum(mass) - mass;  // the other ranks' (this rank's is counted above)
+    }
+    if (global_sum(std::uint64_t(kept)) == 0) diagnose("every fluid particle has left the domain");
     DiscreteVariable<std::uint32_t> permutation("RemovalOrder");
     permutation.assign(order);
     set.reorder(p, permutation.read(p));
@@ -712,16 +806,21 @@ struct WeaklyCompressibleSolver<T, D>::State {
         s << "), velocity (";
         for (int a = 0; a < D; ++a) s << (a ? ", " : "") << double(v[i][a]);
         s << ")";
-        throw SimulationError(s.str());
+        if (!share) throw SimulationError(s.str());
+        // Several ranks: the lowest rank that found a particle names it; all stop.
+        const comm::Communicator& c = share->comm();
+        c.allreduce_max(std::uint64_t(1));
+        c.check_all(false, s.str());
       }
     }
+    if (share && share->comm().allreduce_max(std::uint64_t(0)) != 0) share->comm().check_all(true);
     s << what;
-    throw SimulationError(s.str());
+    fail(s.str());
   }
 
   void advance(double until) {
     visit_policy(policy, [&](auto p) {
-      double speed = double(max_speed.exec(p));
+      double speed = global_max(double(max_speed.exec(p)));
       if (!std::isfinite(speed)) diagnose("the largest speed is not finite");
       double advection_dt = criteria.advection_step(speed);
       if (!(advection_dt > 1e-9 * description.end_time)) {
@@ -729,7 +828,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
         s << "step " << advection_steps << " (t = " << time << "): the advection step " << advection_dt
           << " is below 1e-9 of the end time " << description.end_time << " (largest speed " << speed
           << ", fluid.viscosity " << description.viscosity << "): the run would not end";
-        throw SimulationError(s.str());
+        fail(s.str());
       }
       const double remaining_time = until - time;
       if (remaining_time <= 0) return;
@@ -746,12 +845,17 @@ struct WeaklyCompressibleSolver<T, D>::State {
           << " (fluid.sound_speed " << description.sound_speed << " against fluid.reference_velocity "
           << description.reference_velocity << " and the largest speed " << speed
           << "); weakly compressible SPH takes c0 about 10 U";
-        throw SimulationError(s.str());
+        fail(s.str());
       }
       std::uint64_t steps_here = 0;
       // The density from the kernel sum, or from the continuity equation alone (docs/sph.md, "Density").
       if (description.density_method != "continuity") density_summation.exec(p);
       if (fluid_images) fluid_images->refresh(p, fluid.density);  // prior acceleration reads rho_j
+      if (share) {
+        static const std::vector<std::string> density{fluid.density.name()};
+        share->refresh(p, fluid_body, *fluid_halo, density);
+      }
+      double travelled = 0;  // several ranks: the farthest a particle can have moved in this step
       prior_acceleration.exec(p);
       // Each acoustic step: pressure start (rho, p, x), pressure relaxation (a), velocity
       // update (v, x) with the largest speed, density relaxation (drho/dt), density update
@@ -785,13 +889,26 @@ struct WeaklyCompressibleSolver<T, D>::State {
       pressure_start.exec(p, Real(dt));
       for (;;) {
         if (fluid_images) refresh_image_records(p);
+        if (share) refresh_ghost_records(p);
         place_walls(p, time + relaxed + 0.5 * dt);  // moving walls at the acoustic step's middle
         pressure_relaxation.exec(p, Real(dt));
         sample_loads(p, dt);
-        speed = double(velocity_update_and_max_speed.exec(p, Real(dt)));
+        const double speed_before = speed;
+        speed = global_max(double(velocity_update_and_max_speed.exec(p, Real(dt))));
+        if (share) {
+          travelled += dt * std::max(speed_before, speed);
+          if (travelled > double(share->travel_limit())) {
+            std::ostringstream s;
+            s << "step " << advection_steps << " (t = " << time << "): a particle may have moved " << travelled
+              << " within one advection step, more than half the halo's skin (" << double(share->travel_limit())
+              << "): the flow accelerated too fast for the run on several ranks";
+            fail(s.str());
+          }
+        }
         if (damping_rate > 0) velocity_damping.exec(p, Real(std::exp(-damping_rate * dt)));
         if (damping_zone) damping_zone->exec(p, Real(dt));  // [damping_zone]: wave absorption
         if (fluid_images) refresh_image_records(p);
+        if (share) refresh_ghost_records(p);
         density_relaxation.exec(p, Real(dt));
         relaxed += dt;
         ++acoustic_steps;
@@ -810,14 +927,27 @@ struct WeaklyCompressibleSolver<T, D>::State {
       time += relaxed;
       ++advection_steps;
       finish_loads();
-      if (move_walls && !walls_held) {
-        // Moving walls at the step's end, sorted with the fluid and binned again.
-        place_walls(p, time);
-        if (advection_steps % std::uint64_t(description.sort_every) == 0) wall_sorter.sort(p);
+      const bool sort_now = advection_steps % std::uint64_t(description.sort_every) == 0;
+      // Several ranks: the domain cut anew where the fluid counts drifted apart.
+      bool rebalanced = false;
+      if (share && share->unbalanced(fluid.size())) {
+        share->decompose(fluid_body);
+        share->count_rebalance();
+        rebalanced = true;
+      }
+      const bool walls_move = move_walls && !walls_held;
+      if (walls_move) place_walls(p, time);  // moving walls at the step's end
+      if (share && (walls_move || rebalanced)) {
+        redistribute_walls(p, true);
+      } else if (walls_move) {
+        // Sorted with the fluid and binned again.
+        if (sort_now) wall_sorter.sort(p);
         wall_cells.build(p);
       }
       if (fluid_images) fluid_images->wrap(p);  // before the sort: its cells are the box's
-      if (advection_steps % std::uint64_t(description.sort_every) == 0) fluid_sorter.sort(p);
+      if (share) share->migrate(p, fluid_body);  // before the sort: the arrivals are sorted with the rest
+      if (sort_now) fluid_sorter.sort(p);
+      if (share) share->gather(p, fluid_body, fluid_halo);
       rebuild(p);
     });
   }
@@ -825,6 +955,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
   static constexpr const char* precision_name = sizeof(T) == 4 ? "float" : "double";
 
   void write_checkpoint(const std::filesystem::path& path, const std::string& run_state) {
+    if (share) throw Error("checkpoint " + path.string() + ": checkpoints of a run on several ranks are not available yet");
     io::CheckpointWriter out(solver_checkpoint_version);
     out.section("run");
     out.u32(D);
@@ -919,6 +1050,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
   }
 
   std::string restore_checkpoint(const std::filesystem::path& path) {
+    if (share) throw Error("checkpoint " + path.string() + ": a run on several ranks cannot restore checkpoints yet");
     io::CheckpointReader in(path, solver_checkpoint_version);
     in.section("run");
     const std::uint32_t dimension = in.u32();
@@ -993,6 +1125,19 @@ struct WeaklyCompressibleSolver<T, D>::State {
       s.kinetic_energy = double(e[0]);
       s.potential_energy = double(e[1]);
       s.mass = double(total_mass.exec(p));
+      if (share) {
+        // Each rank's owned particles; the sums folded in rank order (comm::Communicator).
+        s.front = share->comm().allreduce_max(s.front);
+        s.kinetic_energy = global_sum(s.kinetic_energy);
+        s.potential_energy = global_sum(s.potential_energy);
+        s.mass = global_sum(s.mass);
+        for (auto& probe : probes) {
+          const Vec<T, 2> sums = probe->sums(p);
+          const double weighted = global_sum(double(sums[0])), weight = global_sum(double(sums[1]));
+          s.probe_pressure.push_back(weight > 0 ? weighted / weight : 0.0);
+        }
+        return;
+      }
       // A probe near a periodic face reads the images across it.
       if (fluid_images && !probes.empty()) fluid_images->refresh(p, fluid.pressure, fluid.density, fluid.mass);
       for (auto& probe : probes) s.probe_pressure.push_back(double(probe->exec(p)));
@@ -1074,12 +1219,20 @@ struct WeaklyCompressibleSolver<T, D>::State {
   Index removed_particles = 0;  // fluid particles that left the domain (domain.leaving = "remove")
   double removed_mass = 0;
   SettlingReport settling;
+  // Several ranks (null on one): the decomposition, transport and halos (rank_share.hpp).
+  std::unique_ptr<RankShare<T, D>> share;
+  std::unique_ptr<typename RankShare<T, D>::Halo> fluid_halo;
+  std::unique_ptr<typename RankShare<T, D>::Halo> wall_halo;
 };
 
 template <class T, int D>
 WeaklyCompressibleSolver<T, D>::WeaklyCompressibleSolver(const CaseDescription& description, PolicyKind policy,
                                                          bool settle)
-    : state_(std::make_unique<State>(description, policy, settle)) {}
+    : state_(std::make_unique<State>(description, policy, settle, nullptr)) {}
+template <class T, int D>
+WeaklyCompressibleSolver<T, D>::WeaklyCompressibleSolver(const CaseDescription& description, PolicyKind policy,
+                                                         const comm::Communicator& comm, bool settle)
+    : state_(std::make_unique<State>(description, policy, settle, &comm)) {}
 template <class T, int D>
 WeaklyCompressibleSolver<T, D>::~WeaklyCompressibleSolver() = default;
 template <class T, int D>
@@ -1096,6 +1249,18 @@ template <class T, int D>
 const SettlingReport& WeaklyCompressibleSolver<T, D>::settling() const { return state_->settling; }
 template <class T, int D>
 Index WeaklyCompressibleSolver<T, D>::fluid_count() const { return state_->fluid.size(); }
+template <class T, int D>
+std::uint64_t WeaklyCompressibleSolver<T, D>::fluid_count_all_ranks() const {
+  return state_->global_sum(std::uint64_t(state_->fluid.size()));
+}
+template <class T, int D>
+std::uint64_t WeaklyCompressibleSolver<T, D>::particles_migrated() const {
+  return state_->share ? state_->share->migrated() : 0;
+}
+template <class T, int D>
+std::uint64_t WeaklyCompressibleSolver<T, D>::rebalances() const {
+  return state_->share ? state_->share->rebalances() : 0;
+}
 template <class T, int D>
 Index WeaklyCompressibleSolver<T, D>::wall_count() const { return state_->wall.size(); }
 template <class T, int D>

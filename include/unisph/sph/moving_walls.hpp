@@ -95,7 +95,9 @@ class MoveWalls : public UpdateDynamics<MoveWalls<T, D>> {
             c.write(motion_.acceleration),    c.read(motion_.initial_position), c.read(motion_.initial_normal),
             c.read(motion_.motion),           c.read(motions_)};
   }
-  Index size() const { return wall_.size(); }
+  // Owned wall particles and ghosts: a ghost from another rank (solver/rank_share.hpp) carries
+  // its reference state and motion, and follows the law here as it does on its owner.
+  Index size() const { return wall_.particles.total_count(); }
 
  private:
   WallVariables<T, D>& wall_;

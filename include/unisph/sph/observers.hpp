@@ -16,8 +16,11 @@ namespace unisph::sph {
 template <class T, int D>
 class PressureProbe : public ReduceDynamics<PressureProbe<T, D>, Sum<Vec<T, 2>>> {
  public:
-  PressureProbe(FluidVariables<T, D>& fluid, WendlandC2Kernel<T, D> kernel, Vec<T, D> point)
-      : fluid_(fluid), kernel_(kernel), point_(point) {}
+  // `ghosts_are_images`: ghosts are the images of periodic axes, which the probe reads; false
+  // where they are copies of other ranks' particles, which those ranks count (sums()).
+  PressureProbe(FluidVariables<T, D>& fluid, WendlandC2Kernel<T, D> kernel, Vec<T, D> point,
+                bool ghosts_are_images = true)
+      : fluid_(fluid), kernel_(kernel), point_(point), ghosts_are_images_(ghosts_are_images) {}
   struct Kernel {
     View<const Vec<T, D>> position;
     View<const T> pressure, density, mass;
@@ -39,14 +42,21 @@ class PressureProbe : public ReduceDynamics<PressureProbe<T, D>, Sum<Vec<T, 2>>>
   }
   // Owned particles and ghosts: a probe near a periodic face sees the images across it (their
   // pressure, density and mass refreshed by the caller).
-  Index size() const { return fluid_.total_size(); }
+  Index size() const { return ghosts_are_images_ ? fluid_.total_size() : fluid_.size(); }
   // No fluid particle near the probe: the pressure there is zero (a free surface).
   T finish(Vec<T, 2> sums) const { return sums[1] > T(0) ? sums[0] / sums[1] : T(0); }
+  // The two sums that finish() divides (sum p W V, sum W V), for a probe whose particles are
+  // spread over ranks: add the ranks' sums, then divide.
+  template <ExecutionPolicy P>
+  Vec<T, 2> sums(P policy) {
+    return deterministic_reduce(policy, size(), Sum<Vec<T, 2>>{}, detail::ReduceLaunch<Kernel>{this->kernel(policy), Real(0)});
+  }
 
  private:
   FluidVariables<T, D>& fluid_;
   WendlandC2Kernel<T, D> kernel_;
   Vec<T, D> point_;
+  bool ghosts_are_images_;
 };
 
 template <class T, int D>

@@ -1,0 +1,170 @@
+#pragma once
+// RankShare<T, D>: what a solver on one of several ranks adds to a run on one (docs/multi_gpu.md,
+// "The solver on several ranks").
+//
+// The domain is covered by cells at least `width` wide (comm::CellGrid), cut among the ranks
+// along the Morton curve with the fluid's particles as weights (comm::decompose_morton). Each
+// rank owns the fluid and wall particles in its cells and holds ghost copies of the particles
+// of other ranks within `width` of its cells (comm::Halo). `width` is the kernel's cutoff plus
+// a skin: the halo is built once per advection step, and the acoustic steps move the particles
+// within it, so a pair that comes within the cutoff during the step must have been within
+// cutoff + skin at its start. The solver checks that the particles travel less than half the
+// skin in a step (`travel_limit()`) and stops otherwise.
+//
+// Sets are made whole on every rank (the same particles and ids as on one rank) and each rank
+// keeps its share (keep_owned), so that ids are global. After each advection step, migrate()
+// sends the owned particles that left a rank's cells to their new owner, every sortable
+// variable with them; gather() builds the halo and fills the ghosts; refresh() sends the named
+// variables of the same ghosts again.
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "unisph/comm/communicator.hpp"
+#include "unisph/comm/decomposition.hpp"
+#include "unisph/comm/exchange.hpp"
+#include "unisph/comm/halo.hpp"
+#include "unisph/comm/migrate.hpp"
+#include "unisph/comm/transport.hpp"
+#include "unisph/core/box.hpp"
+#include "unisph/particles/body.hpp"
+
+namespace unisph::sph {
+
+template <class T, int D>
+class RankShare {
+ public:
+  using PlanPosition = Vec<Real, D>;
+  using Halo = comm::Halo<D, T>;
+
+  RankShare(const comm::Communicator& comm, const Box<T, D>& domain, T cutoff, T skin, MemorySpace space,
+            double rebalance_fraction)
+      : comm_(comm),
+        transport_(comm::make_transport(comm::default_transport(space), comm)),
+        width_(cutoff + skin),
+        skin_(skin),
+        rebalance_fraction_(rebalance_fraction) {
+    Box<Real, D> box;
+    for (int a = 0; a < D; ++a) {
+      box.lower[a] = Real(domain.lower[a]);
+      box.upper[a] = Real(domain.upper[a]);
+    }
+    grid_ = comm::make_cell_grid<D>(box, Real(width_));
+    if (grid_.cell_count() < std::uint64_t(comm.size()))
+      throw Error("the domain holds " + std::to_string(grid_.cell_count()) + " cells of " + std::to_string(double(width_)) +
+                  " (the kernel's cutoff and the halo's skin) for " + std::to_string(comm.size()) +
+                  " ranks; run on at most " + std::to_string(grid_.cell_count()) + " ranks");
+  }
+
+  const comm::Communicator& comm() const { return comm_; }
+  comm::Transport& transport() { return *transport_; }
+  const comm::Decomposition<D>& decomposition() const { return decomposition_; }
+  T width() const { return width_; }
+  // The farthest a particle may move within one advection step (the halo holds the particles
+  // within cutoff + skin; two particles approach by at most twice this).
+  T travel_limit() const { return skin_ / T(2); }
+  std::uint64_t rebalances() const { return rebalances_; }
+
+  // Collective: cuts the domain anew with the fluid's owned particles as weights.
+  void decompose(Body<T, D>& fluid) {
+    const std::vector<PlanPosition> x = plan_positions(fluid);
+    decomposition_ = comm::decompose_morton<D>(comm_, grid_, std::span<const PlanPosition>(x));
+    ++decompositions_;
+  }
+  // Collective: true when the owned fluid counts have drifted apart by more than the rebalance
+  // fraction: max / mean above 1 + fraction, and above (1 + fraction) times what the last cut
+  // reached (a cut falls on cell boundaries, so a few particles per cell may not balance
+  // within the fraction; without the second condition such a run would cut again every step).
+  bool unbalanced(Index owned) {
+    const double now = comm::imbalance(comm_, std::uint64_t(owned));
+    if (measure_cut_) {
+      reached_ = now;
+      measure_cut_ = false;
+    }
+    return now > (1 + rebalance_fraction_) * std::max(1.0, reached_);
+  }
+  void count_rebalance() {
+    ++rebalances_;
+    measure_cut_ = true;  // the next check measures what this cut reached
+  }
+
+  // Keeps the owned particles of a set made whole on every rank: the others are dropped, the
+  // kept ones stay in their order.
+  template <ExecutionPolicy P>
+  void keep_owned(P policy, Body<T, D>& body) {
+    ParticleSet& set = body.particles();
+    const std::vector<PlanPosition> x = plan_positions(body);
+    std::vector<std::uint32_t> order;
+    order.reserve(x.size());
+    for (std::size_t i = 0; i < x.size(); ++i)
+      if (decomposition_.owner(x[i]) == comm_.rank()) order.push_back(std::uint32_t(i));
+    const Index kept = order.size();
+    for (std::size_t i = 0; i < x.size(); ++i)
+      if (decomposition_.owner(x[i]) != comm_.rank()) order.push_back(std::uint32_t(i));
+    DiscreteVariable<std::uint32_t> permutation("RankShare.Keep");
+    permutation.assign(order);
+    set.reorder(policy, permutation.read(policy));
+    set.shrink_owned(policy, kept);
+  }
+
+  // Collective: drops the ghosts and sends the owned particles outside this rank's cells to
+  // their owners (every sortable variable); the arrivals follow the particles that stayed.
+  template <ExecutionPolicy P>
+  void migrate(P policy, Body<T, D>& body) {
+    ParticleSet& set = body.particles();
+    if (set.ghost_count() != 0) set.set_ghost_count(0);
+    const std::vector<PlanPosition> x = plan_positions(body);
+    const comm::Plan plan = comm::migration_plan<D>(comm_, decomposition_, View<const PlanPosition>(x.data(), x.size()));
+    const Index owned = comm::migrate(policy, *transport_, plan, set.variables(), set.owned_count(), exchange_);
+    set.adopt_owned(policy, owned);
+    migrated_ += plan.export_count();
+  }
+
+  // Collective: builds `halo` from the owned positions and fills the ghosts with every sortable
+  // variable.
+  template <ExecutionPolicy P>
+  void gather(P policy, Body<T, D>& body, std::unique_ptr<Halo>& halo) {
+    ParticleSet& set = body.particles();
+    if (set.ghost_count() != 0) set.set_ghost_count(0);
+    const std::vector<PlanPosition> x = plan_positions(body);
+    halo = std::make_unique<Halo>(comm_, decomposition_, View<const PlanPosition>(x.data(), x.size()), Real(width_));
+    halo->gather(policy, *transport_, set, body.positions().name());
+  }
+  // Collective: the named variables of the ghosts again, from their owners' current values.
+  template <ExecutionPolicy P>
+  void refresh(P policy, Body<T, D>& body, Halo& halo, std::span<const std::string> names) {
+    halo.refresh(policy, *transport_, body.particles(), body.positions().name(), names);
+  }
+
+  // Particles sent to another rank by migrate() since the start, on this rank.
+  std::uint64_t migrated() const { return migrated_; }
+
+ private:
+  // The owned positions on the host, in Real (the plans' arithmetic).
+  static std::vector<PlanPosition> plan_positions(Body<T, D>& body) {
+    const Index n = body.particles().owned_count();
+    View<const Vec<T, D>> x = body.positions().read(MemorySpace::host);
+    std::vector<PlanPosition> out(n);
+    for (Index i = 0; i < n; ++i)
+      for (int a = 0; a < D; ++a) out[i][a] = Real(x[i][a]);
+    return out;
+  }
+
+  comm::Communicator comm_;
+  std::unique_ptr<comm::Transport> transport_;
+  T width_;
+  T skin_;
+  double rebalance_fraction_;
+  comm::CellGrid<D> grid_{};
+  comm::Decomposition<D> decomposition_;
+  comm::VariableExchange exchange_;
+  std::uint64_t decompositions_ = 0;
+  bool measure_cut_ = true;  // the first check measures the first cut
+  double reached_ = 1;       // max / mean right after the last cut
+  std::uint64_t rebalances_ = 0;
+  std::uint64_t migrated_ = 0;
+};
+
+}  // namespace unisph::sph

@@ -1,0 +1,144 @@
+// The SPH solver on several ranks against the same case on one: the 2D and 3D dam break, 200
+// advection steps on each policy, the particle states gathered by id and compared with the run
+// on one rank (made by rank 0 alone), and the observers (energies, mass, front, the wall probe)
+// that every rank reports for the whole fluid. The water crosses subdomains (particles migrate)
+// and the counts drift apart (the domain is cut anew). Run without mpirun (1 rank: the two runs
+// must have the same bits), under mpirun -np 2 and -np 4.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <vector>
+
+#include "support/policy_test.hpp"
+#include "unisph/comm/communicator.hpp"
+#include "unisph/solver/weakly_compressible_solver.hpp"
+
+namespace {
+using namespace unisph;
+using namespace unisph::sph;
+using unisph::testing::kind_of;
+
+CaseDescription small_dam_break(int dimension) {
+  CaseDescription c;
+  c.name = "small_dam_break";
+  c.dimension = dimension;
+  c.dx = dimension == 2 ? 0.05 : 0.1;
+  c.tank = {5.366, dimension == 2 ? 3.0 : 2.0};
+  c.column = {2.0, 1.0};
+  if (dimension == 3) {
+    c.tank.push_back(0.5);
+    c.column.push_back(0.5);
+  }
+  c.density = 1.0;
+  c.sound_speed = 20;
+  c.reference_velocity = 2;
+  c.gravity = 1;
+  c.end_time = 100;
+  c.output_interval = 100;
+  c.probes = {{"left", {0.0, 0.2}}};  // under the column: hydrostatic, then falling
+  if (dimension == 3) c.probes[0].position.push_back(0.25);
+  c.neighbor_search = "stored";
+  return c;
+}
+
+// The whole fluid's state, one row per particle in id order: id, x, v, rho, p.
+template <int D>
+std::vector<std::vector<double>> rows_of(WeaklyCompressibleSolver<double, D>& s, const comm::Communicator& comm) {
+  ParticleSet& set = s.fluid_body().particles();
+  const Index n = set.owned_count();
+  const auto id = set.ids().to_vector();
+  const auto x = s.fluid_body().positions().to_vector();
+  const auto v = set.template variable<Vec<double, D>>("Velocity").to_vector();
+  const auto rho = set.template variable<double>("Density").to_vector();
+  const auto p = set.template variable<double>("Pressure").to_vector();
+  constexpr std::size_t width = 1 + 2 * D + 2;
+  std::vector<double> local;
+  local.reserve(n * width);
+  for (Index i = 0; i < n; ++i) {
+    local.push_back(double(id[i]));
+    for (int a = 0; a < D; ++a) local.push_back(x[i][a]);
+    for (int a = 0; a < D; ++a) local.push_back(v[i][a]);
+    local.push_back(rho[i]);
+    local.push_back(p[i]);
+  }
+  const std::vector<double> all = comm.allgatherv(std::span<const double>(local));
+  std::vector<std::vector<double>> rows;
+  for (std::size_t k = 0; k < all.size(); k += width) rows.emplace_back(all.begin() + k, all.begin() + k + width);
+  std::sort(rows.begin(), rows.end(), [](const auto& a, const auto& b) { return a[0] < b[0]; });
+  return rows;
+}
+
+// Largest difference of columns [first, first + count) relative to their largest magnitude.
+double relative_difference(const std::vector<std::vector<double>>& a, const std::vector<std::vector<double>>& b,
+                           std::size_t first, std::size_t count) {
+  double scale = 0, worst = 0;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    for (std::size_t k = first; k < first + count; ++k) {
+      scale = std::max(scale, std::abs(b[i][k]));
+      worst = std::max(worst, std::abs(a[i][k] - b[i][k]));
+    }
+  return scale > 0 ? worst / scale : worst;
+}
+
+template <int D>
+void agrees_with_one_rank(PolicyKind kind, int steps) {
+  const comm::Communicator comm = comm::Communicator::world();
+  const CaseDescription c = small_dam_break(D);
+  WeaklyCompressibleSolver<double, D> many(c, kind, comm);
+  for (int k = 0; k < steps; ++k) many.advance(c.end_time);
+  const ObserverSample seen = many.observe();
+  const auto rows = rows_of<D>(many, comm);
+  const std::uint64_t migrated = comm.allreduce_sum(many.particles_migrated());
+  const std::uint64_t owned = many.fluid_count_all_ranks();
+  if (comm.rank() != 0) return;
+
+  WeaklyCompressibleSolver<double, D> one(c, kind);
+  for (int k = 0; k < steps; ++k) one.advance(c.end_time);
+  const ObserverSample expected = one.observe();
+  const auto reference = rows_of<D>(one, comm::Communicator::serial());
+  ASSERT_EQ(rows.size(), reference.size());
+  ASSERT_EQ(owned, reference.size());
+  for (std::size_t i = 0; i < rows.size(); ++i) ASSERT_EQ(rows[i][0], reference[i][0]) << "the ids differ";
+  EXPECT_EQ(many.time(), one.time());
+  EXPECT_EQ(many.acoustic_steps(), one.acoustic_steps());
+
+  const double dx = relative_difference(rows, reference, 1, D);
+  const double dv = relative_difference(rows, reference, 1 + D, D);
+  const double drho = relative_difference(rows, reference, 1 + 2 * D, 1);
+  const double dp = relative_difference(rows, reference, 2 + 2 * D, 1);
+  const double dk = std::abs(seen.kinetic_energy - expected.kinetic_energy) / expected.kinetic_energy;
+  const double dprobe = std::abs(seen.probe_pressure[0] - expected.probe_pressure[0]);
+  std::printf("%dD, %d ranks, %d advection steps (t = %.4f, %llu acoustic), %zu fluid particles, %llu migrations, "
+              "%llu rebalances: relative differences x %.3g, v %.3g, rho %.3g, p %.3g; kinetic energy %.3g; "
+              "mass %.17g against %.17g; front %.17g against %.17g; probe %.6g against %.6g\n",
+              D, comm.size(), steps, one.time(), (unsigned long long)one.acoustic_steps(), rows.size(),
+              (unsigned long long)migrated, (unsigned long long)many.rebalances(), dx, dv, drho, dp, dk, seen.mass,
+              expected.mass, seen.front, expected.front, seen.probe_pressure[0], expected.probe_pressure[0]);
+  if (comm.size() == 1) {
+    // One rank is the solver on one process: the same bits.
+    EXPECT_EQ(dx, 0.0);
+    EXPECT_EQ(dv, 0.0);
+    EXPECT_EQ(drho, 0.0);
+    EXPECT_EQ(dp, 0.0);
+  } else {
+    EXPECT_GT(migrated, 0u) << "the water never crossed a subdomain";
+  }
+  EXPECT_LE(dx, 1e-9);
+  EXPECT_LE(dv, 1e-9);
+  EXPECT_LE(drho, 1e-9);
+  EXPECT_LE(dp, 1e-9);
+  EXPECT_LE(dk, 1e-9);
+  EXPECT_LE(std::abs(seen.mass - expected.mass), 1e-12 * expected.mass);
+  EXPECT_LE(std::abs(seen.front - expected.front), 1e-9 * expected.front);
+  EXPECT_LE(dprobe, 1e-9);
+}
+
+UNISPH_POLICY_TEST_SUITE(SolverRanks);
+
+TYPED_TEST(SolverRanks, DamBreak2DAgreesWithOneRank) { agrees_with_one_rank<2>(kind_of<TypeParam>(), 200); }
+TYPED_TEST(SolverRanks, DamBreak3DAgreesWithOneRank) { agrees_with_one_rank<3>(kind_of<TypeParam>(), 200); }
+
+}  // namespace
