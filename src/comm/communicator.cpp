@@ -18,6 +18,12 @@ namespace unisph::comm {
 
 bool mpi_built() { return UNISPH_HAS_MPI; }
 
+bool launched_by_mpi() {
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK"})
+    if (std::getenv(name)) return true;
+  return false;
+}
+
 #if UNISPH_HAS_MPI
 
 struct Communicator::Impl {

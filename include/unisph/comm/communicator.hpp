@@ -37,6 +37,10 @@ namespace unisph::comm {
 
 // Whether this unisph was built with MPI.
 bool mpi_built();
+// Whether this process was started by an MPI launcher (mpirun, mpiexec, srun): the launchers'
+// environment variables (Open MPI's OMPI_COMM_WORLD_SIZE, PMI_SIZE, PMIX_RANK). A program that
+// runs on one process as well makes an Environment only then, and starts as fast as before.
+bool launched_by_mpi();
 
 // Thrown on every rank by a collective check that failed on at least one rank. what() is one
 // line naming the first failing rank and its reason, "rank 2: <reason>" (and, when more

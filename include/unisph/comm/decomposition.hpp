@@ -127,12 +127,23 @@ class Decomposition {
   }
   int owner(const Vec<Real, D>& x) const { return owner_of_cell(grid_.cell_of(x)); }
 
+  // True when the cell and its 3^D neighbours have one owner and none lies across a periodic
+  // face: a particle there gives no ghost to anyone (the halo's build skips it with this one
+  // look-up). False for every cell where the grid has more than 2^26 cells (no table kept).
+  bool interior(const Vec<int, D>& cell) const {
+    if (interior_.empty()) return false;
+    std::uint64_t k = 0;
+    for (int a = D - 1; a >= 0; --a) k = k * std::uint64_t(grid_.cells[a]) + std::uint64_t(cell[a]);
+    return interior_[k] != 0;
+  }
+
   static Decomposition from_morton_splits(const CellGrid<D>& grid, std::vector<std::uint64_t> splits) {
     Decomposition d;
     d.grid_ = grid;
     d.method_ = DecompositionMethod::morton;
     d.ranks_ = static_cast<int>(splits.size()) - 1;
     d.splits_ = std::move(splits);
+    d.tabulate_interior();
     return d;
   }
   static Decomposition from_boxes(const CellGrid<D>& grid, std::vector<CellBox<D>> boxes) {
@@ -141,18 +152,63 @@ class Decomposition {
     d.method_ = DecompositionMethod::bisection;
     d.ranks_ = static_cast<int>(boxes.size());
     d.boxes_ = std::move(boxes);
+    d.tabulate_interior();
     return d;
   }
 
  private:
+  void tabulate_interior() {
+    const std::uint64_t n = grid_.cell_count();
+    if (n > (std::uint64_t(1) << 26)) return;
+    std::vector<int> owner(n);
+    const auto cell_of_index = [&](std::uint64_t k) {
+      Vec<int, D> c;
+      for (int a = 0; a < D; ++a) {
+        c[a] = static_cast<int>(k % std::uint64_t(grid_.cells[a]));
+        k /= std::uint64_t(grid_.cells[a]);
+      }
+      return c;
+    };
+    for (std::uint64_t k = 0; k < n; ++k) owner[k] = owner_of_cell(cell_of_index(k));
+    interior_.assign(n, 1);
+    int offsets = 1;
+    for (int a = 0; a < D; ++a) offsets *= 3;
+    for (std::uint64_t k = 0; k < n; ++k) {
+      const Vec<int, D> c = cell_of_index(k);
+      for (int o = 0; o < offsets && interior_[k]; ++o) {
+        std::uint64_t m = 0;
+        bool inside = true;
+        for (int a = D - 1, code = o; a >= 0; --a) {
+          const int digit = (code / power3(a)) % 3;
+          const int na = c[a] + digit - 1;
+          if (na < 0 || na >= grid_.cells[a]) {
+            inside = false;
+            if (grid_.periodic[a]) interior_[k] = 0;  // a neighbour across a periodic face
+            break;
+          }
+          m = m * std::uint64_t(grid_.cells[a]) + std::uint64_t(na);
+        }
+        if (inside && owner[m] != owner[k]) interior_[k] = 0;
+      }
+    }
+  }
+  static int power3(int a) {
+    int p = 1;
+    for (int k = 0; k < a; ++k) p *= 3;
+    return p;
+  }
+
   CellGrid<D> grid_{};
   DecompositionMethod method_ = DecompositionMethod::morton;
   int ranks_ = 1;
   std::vector<std::uint64_t> splits_;
   std::vector<CellBox<D>> boxes_;
+  std::vector<std::uint8_t> interior_;  // per cell, row-major with axis 0 fastest (interior())
 };
 
 namespace decomposition_detail {
+// 128-bit products of counts (GCC's and Clang's extension; __extension__ keeps -Wpedantic quiet).
+__extension__ typedef unsigned __int128 uint128;
 template <int D>
 int key_bits(const CellGrid<D>& g) {
   int cells = 1;
@@ -164,12 +220,12 @@ inline std::uint64_t weight_of(std::span<const std::uint64_t> weights, std::size
 }
 // The index b in [lo, hi] whose prefix (weight before b) is closest to `target` (ties: lower b).
 inline std::size_t closest_cut(std::span<const std::uint64_t> prefix, std::size_t lo, std::size_t hi,
-                               unsigned __int128 target_times_den, std::uint64_t den) {
+                               uint128 target_times_den, std::uint64_t den) {
   std::size_t best = lo;
-  unsigned __int128 best_err = ~static_cast<unsigned __int128>(0);
+  uint128 best_err = ~static_cast<uint128>(0);
   for (std::size_t b = lo; b <= hi; ++b) {
-    const unsigned __int128 v = static_cast<unsigned __int128>(prefix[b]) * den;
-    const unsigned __int128 err = v > target_times_den ? v - target_times_den : target_times_den - v;
+    const uint128 v = static_cast<uint128>(prefix[b]) * den;
+    const uint128 err = v > target_times_den ? v - target_times_den : target_times_den - v;
     if (err < best_err) {
       best_err = err;
       best = b;
@@ -202,7 +258,7 @@ Decomposition<D> decompose_morton(const Communicator& comm, const CellGrid<D>& g
   std::size_t previous = 0;
   for (int r = 1; r < p; ++r) {
     // Cut at the bucket boundary whose prefix is closest to r/p of the total.
-    const std::size_t b = closest_cut(prefix, previous, buckets, static_cast<unsigned __int128>(total) * r,
+    const std::size_t b = closest_cut(prefix, previous, buckets, static_cast<uint128>(total) * r,
                                       static_cast<std::uint64_t>(p));
     splits[std::size_t(r)] = b == buckets ? ~std::uint64_t(0) : static_cast<std::uint64_t>(b) << shift;
     previous = b;
@@ -255,7 +311,7 @@ Decomposition<D> decompose_bisection(const Communicator& comm, const CellGrid<D>
     std::vector<std::uint64_t> prefix(layers.size() + 1, 0);
     for (std::size_t k = 0; k < layers.size(); ++k) prefix[k + 1] = prefix[k] + layers[k];
     const std::size_t cut = closest_cut(prefix, std::size_t(s_min - lo), std::size_t(s_max - lo),
-                                        static_cast<unsigned __int128>(prefix.back()) * n_left, std::uint64_t(n));
+                                        static_cast<uint128>(prefix.back()) * n_left, std::uint64_t(n));
     const int s = lo + static_cast<int>(cut);
     CellBox<D> left = t.box, right = t.box;
     left.upper[axis] = s;

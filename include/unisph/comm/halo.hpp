@@ -141,6 +141,7 @@ class Halo {
     for (Index i = 0; i < positions.size(); ++i) {
       const PlanPosition x = positions[i];
       const Vec<int, D> c = g.cell_of(x);
+      if (d.interior(c)) continue;  // every cell within reach is this rank's own
       targets.clear();
       for (int o = 0; o < offsets; ++o) {
         Vec<int, D> n{};

@@ -18,6 +18,7 @@
 // variables of the same ghosts again.
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <memory>
 #include <string>
 #include <vector>
@@ -42,7 +43,7 @@ class RankShare {
   RankShare(const comm::Communicator& comm, const Box<T, D>& domain, T cutoff, T skin, MemorySpace space,
             double rebalance_fraction)
       : comm_(comm),
-        transport_(comm::make_transport(comm::default_transport(space), comm)),
+        transport_(comm::make_transport(transport_kind(space), comm)),
         width_(cutoff + skin),
         skin_(skin),
         rebalance_fraction_(rebalance_fraction) {
@@ -56,6 +57,13 @@ class RankShare {
       throw Error("the domain holds " + std::to_string(grid_.cell_count()) + " cells of " + std::to_string(double(width_)) +
                   " (the kernel's cutoff and the halo's skin) for " + std::to_string(comm.size()) +
                   " ranks; run on at most " + std::to_string(grid_.cell_count()) + " ranks");
+  }
+
+  // The transport between ranks: UNISPH_TRANSPORT (host_staged, nccl, cuda_aware_mpi) where
+  // set, else comm::default_transport (NCCL for GPU memory where the build has it).
+  static comm::TransportKind transport_kind(MemorySpace space) {
+    if (const char* name = std::getenv("UNISPH_TRANSPORT"); name && *name) return comm::parse_transport(name);
+    return comm::default_transport(space);
   }
 
   const comm::Communicator& comm() const { return comm_; }

@@ -107,6 +107,8 @@ class WeaklyCompressibleSolver {
   // was cut anew (0 on one rank).
   std::uint64_t particles_migrated() const;
   std::uint64_t rebalances() const;
+  // Several ranks: the transport between them (host_staged, nccl, ...); empty on one rank.
+  std::string transport() const;
   Index wall_count() const;  // the tank's wall and the obstacles'
   // Wall particles of each obstacle of the case; the wall body's particle ids are the tank's
   // first, then each obstacle's in turn.

@@ -1258,6 +1258,10 @@ std::uint64_t WeaklyCompressibleSolver<T, D>::particles_migrated() const {
   return state_->share ? state_->share->migrated() : 0;
 }
 template <class T, int D>
+std::string WeaklyCompressibleSolver<T, D>::transport() const {
+  return state_->share ? std::string(state_->share->transport().name()) : std::string();
+}
+template <class T, int D>
 std::uint64_t WeaklyCompressibleSolver<T, D>::rebalances() const {
   return state_->share ? state_->share->rebalances() : 0;
 }
