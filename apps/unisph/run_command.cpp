@@ -7,11 +7,13 @@
 #include <fstream>
 #include <memory>
 #include <sstream>
+#include <thread>
 #include <string>
 #include <unistd.h>
 #include <vector>
 
 #include "commands.hpp"
+#include "unisph/comm/communicator.hpp"
 #include "unisph/exec/policy.hpp"
 #include "unisph/io/vtk_xml_writer.hpp"
 #include "unisph/solver/case_file.hpp"
@@ -105,16 +107,17 @@ io::PointArray vector_array(const std::string& name, const std::vector<Source>& 
 class Progress {
  public:
   // A restarted run starts at (start_time, start_steps); rates count from there.
-  Progress(bool quiet, double start_time, std::uint64_t start_steps)
-      : quiet_(quiet), tty_(isatty(fileno(stderr))), start_time_(start_time), start_steps_(start_steps) {}
+  // particles: the fluid particles of all ranks at the start (the rate's factor).
+  Progress(bool quiet, double start_time, std::uint64_t start_steps, double particles)
+      : quiet_(quiet), tty_(isatty(fileno(stderr))), start_time_(start_time), start_steps_(start_steps),
+        particles_(particles) {}
   template <class Solver>
   void show(Solver& solver, double end_time, double elapsed, bool last) {
     if (quiet_) return;
     if (!last && elapsed - shown_ < (tty_ ? 0.5 : 10.0)) return;
     shown_ = elapsed;
     const double fraction = std::min(1.0, solver.time() / end_time);
-    const double rate =
-        elapsed > 0 ? double(solver.acoustic_steps() - start_steps_) * double(solver.fluid_count()) / elapsed : 0;
+    const double rate = elapsed > 0 ? double(solver.acoustic_steps() - start_steps_) * particles_ / elapsed : 0;
     const double done = (solver.time() - start_time_) / end_time;
     const double left = done > 0 ? elapsed * (1 - fraction) / done : 0;
     std::fprintf(stderr, "%st = %.4g / %.4g (%5.1f%%)  steps %llu advection, %llu acoustic  %.3g particle-steps/s  %s %.0f s%s",
@@ -129,19 +132,25 @@ class Progress {
   bool tty_;
   double start_time_;
   std::uint64_t start_steps_;
+  double particles_;
   double shown_ = -1e9;
 };
 
+// On several ranks (mpirun): every rank runs the solver on its part of the domain and writes
+// its piece of each snapshot; rank 0 alone writes the observers, loads, collection and log.
 template <class T, int D>
-int run_case(const sph::CaseDescription& description, PolicyKind kind, const RunOptions& options) {
+int run_case(const sph::CaseDescription& description, PolicyKind kind, const RunOptions& options,
+             const comm::Communicator& world) {
   using Solver = sph::WeaklyCompressibleSolver<T, D>;
   const auto start = std::chrono::steady_clock::now();
   const bool restarted = !options.restart.empty();
+  const bool lead = world.rank() == 0;
+  const bool ranks = world.size() > 1;
   // A restarted run takes its settled state from the checkpoint.
-  if (!restarted && description.settling_time > 0 && !options.quiet)
+  if (lead && !restarted && description.settling_time > 0 && !options.quiet)
     std::fprintf(stderr, "settling: %g time units with the velocity damped at %g per unit of time...\n", description.settling_time,
                 description.settling_damping);
-  Solver solver(description, kind, !restarted);
+  Solver solver(description, kind, world, !restarted);
   RunState run;
   run.next_output = description.output_interval;
   run.next_checkpoint = description.checkpoint_every;
@@ -157,9 +166,10 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
 
   const bool continue_observers = restarted && fs::exists(dir / "observers.csv");
   if (continue_observers) keep_observer_rows(dir / "observers.csv", run.observer_rows);
-  std::ofstream observers(dir / "observers.csv", continue_observers ? std::ios::app : std::ios::trunc);
+  std::ofstream observers;
+  if (lead) observers.open(dir / "observers.csv", continue_observers ? std::ios::app : std::ios::trunc);
   observers.precision(10);
-  if (!continue_observers) {
+  if (lead && !continue_observers) {
     observers << "# case " << description.name << " (" << description.source << "); scales: length "
               << description.length_scale << ", time " << description.time_scale << ", pressure "
               << description.pressure_scale << (restarted ? "; restarted from " + options.restart : std::string())
@@ -175,11 +185,12 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
   // the observers' rows after their first (t = 0). Columns <body>_fx, _fy(, _fz), then the moment
   // about report.moment_point: <body>_mz in 2D, <body>_mx, _my, _mz in 3D.
   const bool with_loads = description.loads;
+  const bool write_loads = with_loads && lead;
   const bool continue_loads = with_loads && restarted && fs::exists(dir / "loads.csv");
   if (continue_loads) keep_observer_rows(dir / "loads.csv", run.observer_rows > 0 ? run.observer_rows - 1 : 0);
   std::ofstream loads;
   std::vector<double> largest_force(solver.wall_bodies().size(), 0.0);
-  if (with_loads) {
+  if (write_loads) {
     loads.open(dir / "loads.csv", continue_loads ? std::ios::app : std::ios::trunc);
     loads.precision(10);
     if (!continue_loads) {
@@ -195,7 +206,7 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
     }
   }
   auto record_loads = [&] {
-    if (!with_loads) return;
+    if (!write_loads) return;
     const std::vector<sph::WallLoadSample>& l = solver.loads();
     loads << solver.time();
     for (std::size_t b = 0; b < l.size(); ++b) {
@@ -209,7 +220,8 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
 
   auto record = [&] {
     ++run.observer_rows;
-    const sph::ObserverSample s = solver.observe();
+    const sph::ObserverSample s = solver.observe();  // collective on several ranks
+    if (!lead) return;
     observers << s.time << ',' << s.time / description.time_scale << ',' << s.front << ','
               << s.front / description.length_scale << ',' << s.kinetic_energy << ',' << s.potential_energy << ','
               << s.mass;
@@ -219,9 +231,21 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
     observers << '\n';
   };
 
+  // Several ranks: each writes <body>_<snapshot>_r<rank>.vtp, and rank 0 the .pvtp joining them.
+  const auto piece_name = [&](const std::string& body, const char* number, int rank) {
+    return body + number + (ranks ? "_r" + std::to_string(rank) + ".vtp" : std::string(".vtp"));
+  };
+  const auto series_file = [&](const std::string& body, const char* number, const std::vector<io::PointArray>& arrays) {
+    if (!ranks) return piece_name(body, number, 0);
+    std::vector<std::string> pieces;
+    for (int r = 0; r < world.size(); ++r) pieces.push_back(piece_name(body, number, r));
+    const std::string file = body + number + ".pvtp";
+    if (lead) io::write_pvtp(dir / file, io::PointArray::vtk_type_of<T>(), arrays, pieces);
+    return file;
+  };
   auto write_snapshot = [&] {
-    char suffix[32];
-    std::snprintf(suffix, sizeof suffix, "_%06d.vtp", run.snapshot++);
+    char number[32];
+    std::snprintf(number, sizeof number, "_%06d", run.snapshot++);
     auto& fluid = solver.fluid_body().particles();
     std::vector<io::PointArray> arrays;
     // Owned particles only: a periodic case's images (ghosts after them) are copies.
@@ -234,9 +258,9 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
     arrays.push_back(vector_array<T, D>("Velocity", owned(fluid.template variable<Vec<T, D>>("Velocity").to_vector(), fluid_count)));
     arrays.push_back(io::PointArray::from("Density", 1, owned(fluid.template variable<T>("Density").to_vector(), fluid_count)));
     arrays.push_back(io::PointArray::from("Pressure", 1, owned(fluid.template variable<T>("Pressure").to_vector(), fluid_count)));
-    const std::string fluid_file = solver.fluid_body().name() + suffix;
-    io::write_vtp(dir / fluid_file, as_points<T, D>(owned(solver.fluid_body().positions().to_vector(), fluid_count)), arrays);
-    run.collection.push_back({solver.time(), 0, fluid_file});
+    io::write_vtp(dir / piece_name(solver.fluid_body().name(), number, world.rank()),
+                  as_points<T, D>(owned(solver.fluid_body().positions().to_vector(), fluid_count)), arrays);
+    run.collection.push_back({solver.time(), 0, series_file(solver.fluid_body().name(), number, arrays)});
     // Each wall body to a series of its own (its name, then the snapshot's number): a wall
     // particle's body follows from its id (the first body's ids come first, then the second's...).
     auto& wall = solver.wall_body().particles();
@@ -264,11 +288,10 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
           if (ids[i] >= first[k] && ids[i] < first[k + 1]) v.push_back(wall_velocity[i]);
         wall_arrays.push_back(vector_array<T, D>("Velocity", v));
       }
-      const std::string wall_file = bodies[k].name + suffix;
-      io::write_vtp(dir / wall_file, as_points<T, D>(x), wall_arrays);
-      run.collection.push_back({solver.time(), int(k + 1), wall_file});
+      io::write_vtp(dir / piece_name(bodies[k].name, number, world.rank()), as_points<T, D>(x), wall_arrays);
+      run.collection.push_back({solver.time(), int(k + 1), series_file(bodies[k].name, number, wall_arrays)});
     }
-    io::write_pvd(dir / (description.name + ".pvd"), run.collection);
+    if (lead) io::write_pvd(dir / (description.name + ".pvd"), run.collection);
   };
   // Taken after the advection step that reaches the checkpoint time (not by shortening a
   // step), so a run with checkpoints takes the same steps as one without.
@@ -286,7 +309,8 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
     write_snapshot();
   }
   const std::uint64_t first_acoustic_step = solver.acoustic_steps();
-  Progress progress(options.quiet, solver.time(), first_acoustic_step);
+  const std::uint64_t fluid_particles = solver.fluid_count_all_ranks();
+  Progress progress(options.quiet || !lead, solver.time(), first_acoustic_step, double(fluid_particles));
   const auto loop_start = std::chrono::steady_clock::now();
   std::string failure;
   try {
@@ -305,18 +329,38 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
     }
   } catch (const sph::SimulationError& e) {
     failure = e.what();
+  } catch (const comm::RankFailure& e) {  // several ranks: every rank has it, with one line
+    failure = e.what();
   }
   const double loop_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - loop_start).count();
   const double total_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   progress.show(solver, end_time, loop_seconds, true);
   observers.close();
+  // Several ranks: each rank's GPU and particles, for the log (collective).
+  const std::vector<std::uint64_t> rank_fluid = world.allgather(std::uint64_t(solver.fluid_count()));
+  const std::vector<std::uint64_t> rank_wall = world.allgather(std::uint64_t(solver.wall_count()));
+  const std::vector<std::uint64_t> rank_migrated = world.allgather(solver.particles_migrated());
+  const std::vector<std::uint64_t> rank_local = world.allgather(std::uint64_t(world.local_rank()));
+  std::uint64_t wall_particles = 0;
+  for (std::uint64_t n : rank_wall) wall_particles += n;
+  const std::uint64_t fluid_now = solver.fluid_count_all_ranks();
+  if (!lead) return failure.empty() ? 0 : 2;
 
   std::ostringstream log;
   log << "case: " << description.name << " (" << description.source << ")\n"
       << "dimension: " << D << "\nprecision: " << (sizeof(T) == 8 ? "double" : "float") << "\n"
       << "policy: " << to_string(kind) << (kind == PolicyKind::device ? " (" + execution_info().device_name + ")" : "")
       << "\ndx: " << description.dx << "\nsmoothing length h: " << solver.smoothing_length()
-      << "\nfluid particles: " << solver.fluid_count() << "\nwall particles: " << solver.wall_count();
+      << "\nfluid particles: " << fluid_now << "\nwall particles: " << wall_particles;
+  if (ranks) {
+    log << "\nranks: " << world.size() << " (domain cut along the Morton curve; cut again " << solver.rebalances()
+        << " times; transport " << solver.transport() << ")";
+    for (int r = 0; r < world.size(); ++r)
+      log << "\nrank " << r << ": " << (kind == PolicyKind::device ? "GPU " + std::to_string(rank_local[std::size_t(r)]) + " of its node"
+                                                                  : "local rank " + std::to_string(rank_local[std::size_t(r)]))
+          << ", " << rank_fluid[std::size_t(r)] << " fluid and " << rank_wall[std::size_t(r)]
+          << " wall particles owned at the end, " << rank_migrated[std::size_t(r)] << " particles sent to other ranks";
+  }
   for (const sph::WallBodyCount& b : solver.wall_bodies()) log << "\nwall body " << b.name << ": " << b.count << " particles";
   for (std::size_t k = 0; k < description.obstacles.size(); ++k)
     log << "\nobstacle " << k + 1 << ": " << solver.obstacle_wall_counts()[k] << " wall particles from "
@@ -355,7 +399,7 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
       << "\nwall time (total): " << total_seconds << " s"
       << "\nfluid-particle acoustic steps per second: "
       << (loop_seconds > 0
-              ? double(solver.acoustic_steps() - first_acoustic_step) * double(solver.fluid_count()) / loop_seconds
+              ? double(solver.acoustic_steps() - first_acoustic_step) * double(fluid_particles) / loop_seconds
               : 0)
       << "\n";
   if (!failure.empty()) log << "FAILED: " << failure << "\n";
@@ -433,6 +477,18 @@ void add_run_command(CLI::App& app) {
       description.end_time = options.end_time;
       description.output_interval = std::min(description.output_interval, options.end_time);
     }
+    const comm::Communicator world = comm::Communicator::world();
+    if (world.size() > 1) {
+      if (!options.restart.empty())
+        world.check_all(false, "--restart: a run on several ranks cannot restart from a checkpoint yet; run it on one rank");
+      if (description.checkpoint_every > 0)
+        world.check_all(false, description.source + ": key 'time.checkpoint_every': checkpoints of a run on several "
+                               "ranks are not available yet; pass --checkpoint-every 0 or run on one rank");
+      // One GPU per rank (its number on its node), before anything touches the GPU; the CPU
+      // threads shared among the node's ranks unless --threads says otherwise.
+      select_device(world.local_rank());
+      if (options.threads == 0) options.threads = std::max(1, int(std::thread::hardware_concurrency()) / world.local_size());
+    }
     set_host_threads(options.threads);
     PolicyKind kind = PolicyKind::par;
     if (!options.policy.empty())
@@ -443,9 +499,11 @@ void add_run_command(CLI::App& app) {
     const bool single = precision == "float";
     int status = 0;
     if (description.dimension == 2)
-      status = single ? run_case<float, 2>(description, kind, options) : run_case<double, 2>(description, kind, options);
+      status = single ? run_case<float, 2>(description, kind, options, world)
+                      : run_case<double, 2>(description, kind, options, world);
     else
-      status = single ? run_case<float, 3>(description, kind, options) : run_case<double, 3>(description, kind, options);
+      status = single ? run_case<float, 3>(description, kind, options, world)
+                      : run_case<double, 3>(description, kind, options, world);
     if (status != 0) throw CLI::RuntimeError(status);
   });
 }

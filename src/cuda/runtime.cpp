@@ -27,6 +27,17 @@ namespace {
 std::string bytes_text(std::size_t bytes) { return std::to_string(bytes) + " bytes"; }
 }  // namespace
 
+int select_device_ordinal(int ordinal) {
+  int count = 0;
+  if (cudaGetDeviceCount(&count) != cudaSuccess || count == 0) {
+    cudaGetLastError();
+    return -1;
+  }
+  const int chosen = ((ordinal % count) + count) % count;
+  check(cudaSetDevice(chosen), "cudaSetDevice");
+  return chosen;
+}
+
 void describe_device(ExecutionInfo& info) {
   info.cuda_built = true;
   int count = 0;
@@ -38,8 +49,10 @@ void describe_device(ExecutionInfo& info) {
         err != cudaSuccess ? std::string("no usable CUDA GPU: ") + cudaGetErrorString(err) : "no CUDA GPU on this machine";
     return;
   }
+  int current = 0;
+  if (cudaGetDevice(&current) != cudaSuccess) current = 0;
   cudaDeviceProp prop{};
-  if (cudaGetDeviceProperties(&prop, 0) != cudaSuccess) {
+  if (cudaGetDeviceProperties(&prop, current) != cudaSuccess) {
     cudaGetLastError();
     info.device_unavailable_reason = "the CUDA GPU could not be queried";
     return;
@@ -165,6 +178,8 @@ void* pinned_result_buffer() {
 }
 
 #else  // no CUDA backend in this build
+
+int select_device_ordinal(int) { return -1; }
 
 void describe_device(ExecutionInfo& info) {
   info.cuda_built = false;

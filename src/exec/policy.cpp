@@ -51,6 +51,8 @@ int host_threads() {
   return static_cast<int>(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
 }
 
+int select_device(int ordinal) { return cuda::select_device_ordinal(ordinal); }
+
 const ExecutionInfo& execution_info() {
   static ExecutionInfo info = [] {
     ExecutionInfo i;

@@ -50,6 +50,11 @@ concept ExecutionPolicy = is_execution_policy_v<P>;
 // Run-time name of a policy, for command lines and case files.
 enum class PolicyKind { seq, par, device };
 
+// Makes GPU `ordinal` modulo the GPUs present the device of this process (one rank per GPU:
+// the rank's number on its node). Call it before anything else touches the GPU; returns the
+// ordinal chosen, or -1 where no GPU is present or the build has no CUDA backend.
+int select_device(int ordinal);
+
 std::string_view to_string(PolicyKind kind);
 // Parses "seq", "par" or "device"; throws unisph::Error naming the accepted words otherwise.
 PolicyKind parse_policy(std::string_view name);

@@ -103,6 +103,25 @@ void write_vtp(const std::filesystem::path& path, const std::vector<S>& points, 
   write_file_atomically(path, content);
 }
 
+// The parallel PolyData file (.pvtp) that joins pieces written by write_vtp (one per rank) into
+// one data set for ParaView: `arrays` names the point arrays of the pieces (their values are
+// not read here, only name, type and components), `points_type` the points' VTK type, `pieces`
+// the piece files relative to the .pvtp.
+inline void write_pvtp(const std::filesystem::path& path, const std::string& points_type,
+                       const std::vector<PointArray>& arrays, const std::vector<std::string>& pieces) {
+  std::ostringstream xml;
+  xml << "<?xml version=\"1.0\"?>\n<VTKFile type=\"PPolyData\" version=\"1.0\" byte_order=\"LittleEndian\" "
+         "header_type=\"UInt64\">\n<PPolyData GhostLevel=\"0\">\n<PPointData>\n";
+  for (const PointArray& a : arrays)
+    xml << "<PDataArray type=\"" << a.vtk_type << "\" Name=\"" << a.name << "\" NumberOfComponents=\"" << a.components
+        << "\"/>\n";
+  xml << "</PPointData>\n<PPoints>\n<PDataArray type=\"" << points_type
+      << "\" Name=\"Points\" NumberOfComponents=\"3\"/>\n</PPoints>\n";
+  for (const std::string& piece : pieces) xml << "<Piece Source=\"" << piece << "\"/>\n";
+  xml << "</PPolyData>\n</VTKFile>\n";
+  write_file_atomically(path, xml.str());
+}
+
 struct CollectionEntry {
   double time;
   int part;

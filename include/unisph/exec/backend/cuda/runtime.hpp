@@ -18,6 +18,7 @@ namespace unisph::cuda {
 
 // Fills the device fields of `info` (built, present, name, reason when absent). Never throws.
 void describe_device(ExecutionInfo& info);
+int select_device_ordinal(int ordinal);  // select_device() (exec/policy.hpp)
 
 // Throws PolicyUnavailable (with the reason) unless the CUDA backend is built and a GPU is present.
 void require_device();
