@@ -12,6 +12,8 @@
 int main(int argc, char** argv) {
   unisph::comm::Environment environment(argc, argv);
   const unisph::comm::Communicator comm = unisph::comm::Communicator::world();
+  // One GPU per rank of a node (NCCL refuses two ranks on one GPU), before anything touches it.
+  unisph::select_device(comm.local_rank());
   int threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()) / comm.local_size());
   if (const char* t = std::getenv("UNISPH_THREADS_PER_RANK")) threads = std::max(1, std::atoi(t));
   unisph::set_host_threads(threads);
