@@ -235,7 +235,9 @@ void halo_and_check(P policy, Scenario<D>& s, DecompositionMethod method) {
   EXPECT_EQ(mismatched, 0) << "rank " << s.comm.rank();
   bool periodic = false;
   for (int a = 0; a < D; ++a) periodic = periodic || s.grid.periodic[a];
-  if (s.comm.size() > 1 || periodic) EXPECT_GT(s.comm.allreduce_sum(std::uint64_t(halo.ghost_count())), 0u);
+  if (s.comm.size() > 1 || periodic) {
+    EXPECT_GT(s.comm.allreduce_sum(std::uint64_t(halo.ghost_count())), 0u);
+  }
 
   // Refresh only the mass: owned masses doubled arrive in the ghosts; flags stay as they were.
   {
