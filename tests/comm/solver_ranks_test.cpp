@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "support/policy_test.hpp"
+#include "support/small_dam_break.hpp"
 #include "unisph/comm/communicator.hpp"
 #include "unisph/solver/weakly_compressible_solver.hpp"
 
@@ -21,26 +22,15 @@ using namespace unisph;
 using namespace unisph::sph;
 using unisph::testing::kind_of;
 
+// The shared small dam break in a lower tank (2D: 3 H high), to t = 100, with the probe under
+// the column (hydrostatic, then falling).
 CaseDescription small_dam_break(int dimension) {
-  CaseDescription c;
-  c.name = "small_dam_break";
-  c.dimension = dimension;
-  c.dx = dimension == 2 ? 0.05 : 0.1;
-  c.tank = {5.366, dimension == 2 ? 3.0 : 2.0};
-  c.column = {2.0, 1.0};
-  if (dimension == 3) {
-    c.tank.push_back(0.5);
-    c.column.push_back(0.5);
-  }
-  c.density = 1.0;
-  c.sound_speed = 20;
-  c.reference_velocity = 2;
-  c.gravity = 1;
+  CaseDescription c = unisph::testing::small_dam_break(dimension);
+  c.tank[1] = dimension == 2 ? 3.0 : 2.0;
   c.end_time = 100;
   c.output_interval = 100;
-  c.probes = {{"left", {0.0, 0.2}}};  // under the column: hydrostatic, then falling
-  if (dimension == 3) c.probes[0].position.push_back(0.25);
-  c.neighbor_search = "stored";
+  c.probes[0].name = "left";
+  c.probes[0].position[0] = 0.0;
   return c;
 }
 

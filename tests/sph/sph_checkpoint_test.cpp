@@ -16,6 +16,7 @@
 #include <unistd.h>
 
 #include "support/policy_test.hpp"
+#include "support/small_dam_break.hpp"
 #include "unisph/io/checkpoint_file.hpp"
 #include "unisph/solver/solver_checkpoint.hpp"
 #include "unisph/solver/weakly_compressible_solver.hpp"
@@ -27,28 +28,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-CaseDescription small_dam_break(int dimension = 2) {
-  CaseDescription c;
-  c.name = "small_dam_break";
-  c.dimension = dimension;
-  c.dx = dimension == 2 ? 0.05 : 0.1;
-  c.tank = {5.366, dimension == 2 ? 5.366 : 2.0};
-  c.column = {2.0, 1.0};
-  if (dimension == 3) {
-    c.tank.push_back(0.5);
-    c.column.push_back(0.5);
-  }
-  c.density = 1.0;
-  c.sound_speed = 20;
-  c.reference_velocity = 2;
-  c.gravity = 1;
-  c.end_time = 10;
-  c.output_interval = 10;
-  c.probes = {{"wall", {5.366, 0.2}}};
-  if (dimension == 3) c.probes[0].position.push_back(0.25);
-  c.neighbor_search = "stored";
-  return c;
-}
+using unisph::testing::small_dam_break;
 
 // A file name of its own per process and test (ctest runs the policies in parallel).
 fs::path scratch_file(const std::string& name) {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "support/policy_test.hpp"
+#include "support/small_dam_break.hpp"
 #include "unisph/exec/algorithms.hpp"
 #include "unisph/sph/acoustic_riemann_solver.hpp"
 #include "unisph/sph/density_diffusion.hpp"
@@ -210,24 +211,10 @@ TEST(HostSphCaseFile, OneLineErrorsNameFileLineAndKey) {
 }
 
 CaseDescription small_dam_break() {
-  CaseDescription c;
-  c.name = "small_dam_break";
-  c.dimension = 2;
-  c.dx = 0.05;
-  c.tank = {5.366, 5.366};
-  c.column = {2.0, 1.0};
-  c.density = 1.0;
-  c.sound_speed = 20;
-  c.reference_velocity = 2;
-  c.gravity = 1;
+  CaseDescription c = unisph::testing::small_dam_break();
   c.end_time = 1;
   c.output_interval = 1;
-  c.probes = {{"wall", {5.366, 0.2}}};
   c.continuity_dissipation = true;  // as every case in cases/ (the wall term of the continuity equation included)
-  // Stored lists on every policy: the pairs are then fixed at each rebuild everywhere. (The GPU's
-  // default direct search re-tests every candidate with the moved positions at each pass, so it
-  // sums over slightly different pairs than the CPU's stored lists.)
-  c.neighbor_search = "stored";
   return c;
 }
 

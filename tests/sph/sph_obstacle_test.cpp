@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "support/policy_test.hpp"
+#include "support/small_dam_break.hpp"
 #include "unisph/io/checkpoint_file.hpp"
 #include "unisph/io/vtk_xml_reader.hpp"
 #include "unisph/io/vtk_xml_writer.hpp"
@@ -113,21 +114,11 @@ void write_ball(const fs::path& path, const Vec<double, 3>& c, double radius, do
 }
 
 CaseDescription small_dam_break() {
-  CaseDescription c;
+  CaseDescription c = unisph::testing::small_dam_break();
   c.name = "obstacle_dam_break";
   c.source = "obstacle_case.toml";
-  c.dimension = 2;
-  c.dx = 0.05;
-  c.tank = {5.366, 5.366};
-  c.column = {2.0, 1.0};
-  c.density = 1.0;
-  c.sound_speed = 20;
-  c.reference_velocity = 2;
-  c.gravity = 1;
-  c.end_time = 10;
-  c.output_interval = 10;
+  c.probes.clear();
   c.continuity_dissipation = true;
-  c.neighbor_search = "stored";  // the same pairs on every policy (see sph_methods_test.cpp)
   return c;
 }
 
