@@ -104,13 +104,15 @@ class RankShare {
   void keep_owned(P policy, Body<T, D>& body) {
     ParticleSet& set = body.particles();
     const std::vector<PlanPosition> x = plan_positions(body);
+    std::vector<char> mine(x.size());
+    for (std::size_t i = 0; i < x.size(); ++i) mine[i] = decomposition_.owner(x[i]) == comm_.rank();
     std::vector<std::uint32_t> order;
     order.reserve(x.size());
     for (std::size_t i = 0; i < x.size(); ++i)
-      if (decomposition_.owner(x[i]) == comm_.rank()) order.push_back(std::uint32_t(i));
+      if (mine[i]) order.push_back(std::uint32_t(i));
     const Index kept = order.size();
     for (std::size_t i = 0; i < x.size(); ++i)
-      if (decomposition_.owner(x[i]) != comm_.rank()) order.push_back(std::uint32_t(i));
+      if (!mine[i]) order.push_back(std::uint32_t(i));
     DiscreteVariable<std::uint32_t> permutation("RankShare.Keep");
     permutation.assign(order);
     set.reorder(policy, permutation.read(policy));

@@ -414,9 +414,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
   // that reads them.
   template <class P>
   void refresh_ghost_records(P p) {
-    static const std::vector<std::string> names{fluid.position.name(), fluid.neighbor_position_volume.name(),
-                                                fluid.neighbor_velocity_pressure.name()};
-    share->refresh(p, fluid_body, *fluid_halo, names);
+    share->refresh(p, fluid_body, *fluid_halo, ghost_record_names);
   }
   // Several ranks: wall particles to the owners of their cells, sorted, their ghosts gathered,
   // binned (after a rebalance, and after moving walls moved).
@@ -851,10 +849,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
       // The density from the kernel sum, or from the continuity equation alone (docs/sph.md, "Density").
       if (description.density_method != "continuity") density_summation.exec(p);
       if (fluid_images) fluid_images->refresh(p, fluid.density);  // prior acceleration reads rho_j
-      if (share) {
-        static const std::vector<std::string> density{fluid.density.name()};
-        share->refresh(p, fluid_body, *fluid_halo, density);
-      }
+      if (share) share->refresh(p, fluid_body, *fluid_halo, ghost_density_name);
       double travelled = 0;  // several ranks: the farthest a particle can have moved in this step
       prior_acceleration.exec(p);
       // Each acoustic step: pressure start (rho, p, x), pressure relaxation (a), velocity
@@ -1223,6 +1218,10 @@ struct WeaklyCompressibleSolver<T, D>::State {
   std::unique_ptr<RankShare<T, D>> share;
   std::unique_ptr<typename RankShare<T, D>::Halo> fluid_halo;
   std::unique_ptr<typename RankShare<T, D>::Halo> wall_halo;
+  // What the ghosts' refreshes send: before each relaxation, and after the density summation.
+  const std::vector<std::string> ghost_record_names{fluid.position.name(), fluid.neighbor_position_volume.name(),
+                                                    fluid.neighbor_velocity_pressure.name()};
+  const std::vector<std::string> ghost_density_name{fluid.density.name()};
 };
 
 template <class T, int D>
