@@ -72,6 +72,7 @@ std::string VariableBase::describe() const {
 void VariableBase::ensure_host_allocation() {
   if (host_allocated_) return;
   host_ = allocate_host(bytes(), alignment_);
+  host_capacity_ = bytes();
   // The host copy starts as the variable's zeros; if the device is current it is overwritten.
   if (host_) zero_host(host_, bytes());
   host_allocated_ = true;
@@ -81,6 +82,7 @@ void VariableBase::ensure_host_allocation() {
 void VariableBase::ensure_device_allocation() {
   if (device_allocated_) return;
   device_ = cuda::allocate(bytes(), describe());
+  device_capacity_ = bytes();
   device_allocated_ = true;
   stamp_[device_side] = next_stamp();
 }
@@ -123,33 +125,49 @@ void VariableBase::resize_elements(Index count) {
   const std::size_t kept = std::min(bytes(), new_bytes);
   const std::string what = "resizing " + describe() + " to " + std::to_string(count) + " elements";
 
-  // Allocate everything first, so that a failure leaves the variable as it was.
+  // A current side keeps its allocation where the new size fits in it (new elements zeroed);
+  // otherwise it moves to one 1/32 larger than asked, so that sizes that drift up step by step
+  // allocate rarely. Everything is allocated before anything changes, so that a failure leaves
+  // the variable as it was.
   const bool keep_device = device_allocated_ && current_[device_side];
   const bool keep_host = host_allocated_ && current_[host_side];
-  void* device = keep_device ? cuda::allocate(new_bytes, what) : nullptr;
+  const bool device_fits = keep_device && new_bytes <= device_capacity_;
+  const bool host_fits = keep_host && new_bytes <= host_capacity_;
+  const std::size_t grown = new_bytes + new_bytes / 32;
+  void* device = keep_device && !device_fits ? cuda::allocate(grown, what) : nullptr;
   void* host = nullptr;
   try {
-    host = keep_host ? allocate_host(new_bytes, alignment_) : nullptr;
+    host = keep_host && !host_fits ? allocate_host(grown, alignment_) : nullptr;
   } catch (...) {
     cuda::deallocate(device);
     throw;
   }
 
-  if (host) {
-    if (kept) std::memcpy(host, host_, kept);
-    zero_host(static_cast<char*>(host) + kept, new_bytes - kept);
+  if (host_fits) {
+    zero_host(static_cast<char*>(host_) + kept, new_bytes - kept);
+  } else {
+    if (host) {
+      if (kept) std::memcpy(host, host_, kept);
+      zero_host(static_cast<char*>(host) + kept, new_bytes - kept);
+    }
+    // A stale copy is dropped: the next access on its side allocates it and copies.
+    free_host(host_, alignment_);
+    host_ = host;
+    host_allocated_ = keep_host;
+    host_capacity_ = host ? grown : 0;
   }
-  if (keep_device) {
-    cuda::copy_on_device(device, device_, kept, what);
-    cuda::fill_zero(static_cast<char*>(device) + kept, new_bytes - kept, what);
+  if (device_fits) {
+    cuda::fill_zero(static_cast<char*>(device_) + kept, new_bytes - kept, what);
+  } else {
+    if (keep_device) {
+      cuda::copy_on_device(device, device_, kept, what);
+      cuda::fill_zero(static_cast<char*>(device) + kept, new_bytes - kept, what);
+    }
+    cuda::deallocate(device_);
+    device_ = device;
+    device_allocated_ = keep_device;
+    device_capacity_ = device ? grown : 0;
   }
-  // A stale copy is dropped: the next access on its side allocates it and copies.
-  free_host(host_, alignment_);
-  host_ = host;
-  host_allocated_ = keep_host;
-  cuda::deallocate(device_);
-  device_ = device;
-  device_allocated_ = keep_device;
   stamp_[host_side] = next_stamp();
   stamp_[device_side] = next_stamp();
   count_ = count;

@@ -324,4 +324,76 @@ TYPED_TEST(CommHalo, ParticleSetGetsGhosts) {
   EXPECT_EQ(comm.allreduce_sum(std::uint64_t(set.ghost_count())) > 0, true);
 }
 
+// The plans built by kernels on the test's policy (positions in its memory, float as well as
+// double) list the same items in the same order as those built on the host.
+template <int D, class P, class S>
+void plans_on_policy_equal_host(P policy, Scenario<D>& s, DecompositionMethod method) {
+  const std::size_t b = comm_test::slice_begin(s.n, s.comm.rank(), s.comm.size());
+  const std::size_t e = comm_test::slice_begin(s.n, s.comm.rank() + 1, s.comm.size());
+  const std::span<const Vec<Real, D>> start(s.global.data() + b, e - b);
+  const Decomposition<D> d =
+      method == DecompositionMethod::morton ? decompose_morton(s.comm, s.grid, start) : decompose_bisection(s.comm, s.grid, start);
+  // Positions of this rank's slice (not yet migrated: many leave), in S on the policy.
+  std::vector<Vec<S, D>> xs(e - b);
+  std::vector<Vec<Real, D>> xr(e - b);
+  for (std::size_t k = 0; k < xs.size(); ++k)
+    for (int a = 0; a < D; ++a) {
+      xs[k][a] = static_cast<S>(s.global[b + k][a]);
+      xr[k][a] = static_cast<Real>(xs[k][a]);  // what the host sees of the same positions
+    }
+  DiscreteVariable<Vec<S, D>> x("Position");
+  x.assign(xs);
+  const View<const Vec<Real, D>> host(xr.data(), xr.size());
+
+  const Plan m_host = migration_plan(s.comm, d, host);
+  const Plan m_policy = migration_plan(policy, s.comm, d, View<const Vec<S, D>>(x.read(policy)));
+  ASSERT_EQ(m_policy.export_count(), m_host.export_count());
+  EXPECT_EQ(std::vector<std::uint32_t>(m_policy.export_index().begin(), m_policy.export_index().end()),
+            std::vector<std::uint32_t>(m_host.export_index().begin(), m_host.export_index().end()));
+  EXPECT_EQ(std::vector<std::int32_t>(m_policy.export_rank().begin(), m_policy.export_rank().end()),
+            std::vector<std::int32_t>(m_host.export_rank().begin(), m_host.export_rank().end()));
+  EXPECT_EQ(std::vector<std::int32_t>(m_policy.import_rank().begin(), m_policy.import_rank().end()),
+            std::vector<std::int32_t>(m_host.import_rank().begin(), m_host.import_rank().end()));
+
+  Halo<D, S> h_host(s.comm, d, host, s.cutoff);
+  Halo<D, S> h_policy(policy, s.comm, d, View<const Vec<S, D>>(x.read(policy)), s.cutoff);
+  const Plan& a = h_policy.plan();
+  const Plan& c = h_host.plan();
+  ASSERT_EQ(a.export_count(), c.export_count());
+  EXPECT_EQ(a.import_count(), c.import_count());
+  EXPECT_EQ(std::vector<std::uint32_t>(a.export_index().begin(), a.export_index().end()),
+            std::vector<std::uint32_t>(c.export_index().begin(), c.export_index().end()));
+  EXPECT_EQ(std::vector<std::int32_t>(a.export_rank().begin(), a.export_rank().end()),
+            std::vector<std::int32_t>(c.export_rank().begin(), c.export_rank().end()));
+  const auto sa = h_policy.shifts(), sc = h_host.shifts();
+  int shifted = 0;
+  for (std::size_t k = 0; k < sa.size(); ++k)
+    for (int q = 0; q < D; ++q) shifted += sa[k][q] != sc[k][q];
+  EXPECT_EQ(shifted, 0);
+  bool periodic = false;
+  for (int q = 0; q < D; ++q) periodic = periodic || s.grid.periodic[q];
+  if (s.comm.size() > 1 || periodic) {
+    EXPECT_GT(s.comm.allreduce_sum(std::uint64_t(a.export_count())), 0u);
+  }
+  // Built again in the same storage: the same plan.
+  h_policy.build(policy, s.comm, d, View<const Vec<S, D>>(x.read(policy)), s.cutoff);
+  EXPECT_EQ(std::vector<std::uint32_t>(h_policy.plan().export_index().begin(), h_policy.plan().export_index().end()),
+            std::vector<std::uint32_t>(c.export_index().begin(), c.export_index().end()));
+}
+
+UNISPH_POLICY_TEST_SUITE(CommPlans);
+
+TYPED_TEST(CommPlans, OnThePolicyAsOnTheHost2DPeriodicMorton) {
+  Scenario<2> s(3000, Real(0.1), Vec<int, 2>{{1, 0}}, 41);
+  plans_on_policy_equal_host<2, decltype(this->policy), Real>(this->policy, s, DecompositionMethod::morton);
+}
+TYPED_TEST(CommPlans, OnThePolicyAsOnTheHost3DFloatBisection) {
+  Scenario<3> s(4000, Real(0.2), Vec<int, 3>{{0, 1, 1}}, 42);
+  plans_on_policy_equal_host<3, decltype(this->policy), float>(this->policy, s, DecompositionMethod::bisection);
+}
+TYPED_TEST(CommPlans, OnThePolicyAsOnTheHost3DNonPeriodicMorton) {
+  Scenario<3> s(4000, Real(0.15), Vec<int, 3>{}, 43);
+  plans_on_policy_equal_host<3, decltype(this->policy), Real>(this->policy, s, DecompositionMethod::morton);
+}
+
 }  // namespace

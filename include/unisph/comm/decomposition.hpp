@@ -21,6 +21,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -31,6 +32,7 @@
 #include "unisph/core/error.hpp"
 #include "unisph/core/morton_key.hpp"
 #include "unisph/core/vector.hpp"
+#include "unisph/memory/discrete_variable.hpp"
 
 namespace unisph::comm {
 
@@ -92,7 +94,7 @@ template <int D>
 struct CellBox {
   Vec<int, D> lower;
   Vec<int, D> upper;
-  bool contains(const Vec<int, D>& c) const {
+  UNISPH_HOST_DEVICE bool contains(const Vec<int, D>& c) const {
     for (int a = 0; a < D; ++a)
       if (c[a] < lower[a] || c[a] >= upper[a]) return false;
     return true;
@@ -101,6 +103,44 @@ struct CellBox {
     std::uint64_t n = 1;
     for (int a = 0; a < D; ++a) n *= static_cast<std::uint64_t>(std::max(0, upper[a] - lower[a]));
     return n;
+  }
+};
+
+// What kernels hold to find owners (Decomposition::view): the grid, the Morton split keys or
+// the bisection boxes, and the interior table where one is kept. Host and device share these
+// functions, so a plan built by a kernel makes the same decisions as the host's owner().
+template <int D>
+struct DecompositionView {
+  CellGrid<D> grid;
+  int ranks = 1;
+  bool morton = true;
+  View<const std::uint64_t> splits;    // morton: ranks + 1 keys
+  View<const CellBox<D>> boxes;        // bisection: one per rank
+  View<const std::uint8_t> interior;   // per cell, row-major with axis 0 fastest; empty: none kept
+
+  UNISPH_HOST_DEVICE int owner_of_cell(const Vec<int, D>& cell) const {
+    if (morton) {
+      // The number of splits[1 .. ranks - 1] at or below the key (std::upper_bound).
+      const std::uint64_t key = morton_key<D>(cell);
+      int lo = 1, hi = ranks;
+      while (lo < hi) {
+        const int mid = lo + (hi - lo) / 2;
+        if (splits[Index(mid)] <= key) lo = mid + 1;
+        else hi = mid;
+      }
+      return lo - 1;
+    }
+    for (int r = 0; r < ranks; ++r)
+      if (boxes[Index(r)].contains(cell)) return r;
+    return -1;  // unreachable: the boxes tile the grid
+  }
+  UNISPH_HOST_DEVICE int owner(const Vec<Real, D>& x) const { return owner_of_cell(grid.cell_of(x)); }
+  // See Decomposition::interior.
+  UNISPH_HOST_DEVICE bool is_interior(const Vec<int, D>& cell) const {
+    if (interior.empty()) return false;
+    std::uint64_t k = 0;
+    for (int a = D - 1; a >= 0; --a) k = k * std::uint64_t(grid.cells[a]) + std::uint64_t(cell[a]);
+    return interior[Index(k)] != 0;
   }
 };
 
@@ -115,27 +155,19 @@ class Decomposition {
   // bisection: rank r owns boxes()[r].
   std::span<const CellBox<D>> boxes() const { return boxes_; }
 
-  int owner_of_cell(const Vec<int, D>& cell) const {
-    if (method_ == DecompositionMethod::morton) {
-      const std::uint64_t key = morton_key<D>(cell);
-      const auto it = std::upper_bound(splits_.begin() + 1, splits_.end() - 1, key);
-      return static_cast<int>(it - (splits_.begin() + 1));
-    }
-    for (int r = 0; r < ranks_; ++r)
-      if (boxes_[std::size_t(r)].contains(cell)) return r;
-    return -1;  // unreachable: the boxes tile the grid
-  }
+  int owner_of_cell(const Vec<int, D>& cell) const { return host_view().owner_of_cell(cell); }
   int owner(const Vec<Real, D>& x) const { return owner_of_cell(grid_.cell_of(x)); }
+
+  // The tables in the memory space of `policy`, for kernels (a plan built on the device).
+  template <class P>
+  DecompositionView<D> view(P) const {
+    return view_in(P::space);
+  }
 
   // True when the cell and its 3^D neighbours have one owner and none lies across a periodic
   // face: a particle there gives no ghost to anyone (the halo's build skips it with this one
   // look-up). False for every cell where the grid has more than 2^26 cells (no table kept).
-  bool interior(const Vec<int, D>& cell) const {
-    if (interior_.empty()) return false;
-    std::uint64_t k = 0;
-    for (int a = D - 1; a >= 0; --a) k = k * std::uint64_t(grid_.cells[a]) + std::uint64_t(cell[a]);
-    return interior_[k] != 0;
-  }
+  bool interior(const Vec<int, D>& cell) const { return host_view().is_interior(cell); }
 
   static Decomposition from_morton_splits(const CellGrid<D>& grid, std::vector<std::uint64_t> splits) {
     Decomposition d;
@@ -143,7 +175,7 @@ class Decomposition {
     d.method_ = DecompositionMethod::morton;
     d.ranks_ = static_cast<int>(splits.size()) - 1;
     d.splits_ = std::move(splits);
-    d.tabulate_interior();
+    d.make_tables();
     return d;
   }
   static Decomposition from_boxes(const CellGrid<D>& grid, std::vector<CellBox<D>> boxes) {
@@ -152,11 +184,43 @@ class Decomposition {
     d.method_ = DecompositionMethod::bisection;
     d.ranks_ = static_cast<int>(boxes.size());
     d.boxes_ = std::move(boxes);
-    d.tabulate_interior();
+    d.make_tables();
     return d;
   }
 
  private:
+  // Host and device copies of the splits, boxes and interior table, shared by the copies of a
+  // decomposition (they never change after it is made).
+  struct Tables {
+    DiscreteVariable<std::uint64_t> splits{"Decomposition.Splits"};
+    DiscreteVariable<CellBox<D>> boxes{"Decomposition.Boxes"};
+    DiscreteVariable<std::uint8_t> interior{"Decomposition.Interior"};
+  };
+  DecompositionView<D> host_view() const {
+    DecompositionView<D> v;
+    v.grid = grid_;
+    v.ranks = ranks_;
+    v.morton = method_ == DecompositionMethod::morton;
+    v.splits = View<const std::uint64_t>(splits_.data(), splits_.size());
+    v.boxes = View<const CellBox<D>>(boxes_.data(), boxes_.size());
+    v.interior = View<const std::uint8_t>(interior_.data(), interior_.size());
+    return v;
+  }
+  DecompositionView<D> view_in(MemorySpace space) const {
+    if (space == MemorySpace::host) return host_view();
+    DecompositionView<D> v = host_view();
+    v.splits = tables_->splits.read(space);
+    v.boxes = tables_->boxes.read(space);
+    v.interior = tables_->interior.read(space);
+    return v;
+  }
+  void make_tables() {
+    tabulate_interior();
+    tables_ = std::make_shared<Tables>();
+    tables_->splits.assign(splits_);
+    tables_->boxes.assign(boxes_);
+    tables_->interior.assign(interior_);
+  }
   void tabulate_interior() {
     const std::uint64_t n = grid_.cell_count();
     if (n > (std::uint64_t(1) << 26)) return;
@@ -204,6 +268,7 @@ class Decomposition {
   std::vector<std::uint64_t> splits_;
   std::vector<CellBox<D>> boxes_;
   std::vector<std::uint8_t> interior_;  // per cell, row-major with axis 0 fastest (interior())
+  std::shared_ptr<Tables> tables_;
 };
 
 namespace decomposition_detail {

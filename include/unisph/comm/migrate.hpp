@@ -3,8 +3,13 @@
 // with every sortable variable of their registry (positions, velocities, ids, ...).
 //
 //   wrap_into_box(policy, grid, positions)      positions wrapped into the box along periodic axes
-//   Plan plan = migration_plan(comm, decomposition, positions_on_host)   (collective)
+//   Plan plan = migration_plan(policy, comm, decomposition, positions)   (collective; kernels)
 //   Index owned = migrate(policy, transport, plan, registry, owned, exchange)   (collective)
+//
+// The plan is built where the positions are: each particle's owner by a kernel, a stable radix
+// sort of (destination, index) and the counts per destination from the sorted keys; only the
+// counts reach the host (migration_plan(comm, decomposition, positions) runs the same kernels
+// on the host's sequential policy).
 //
 // After migrate the registry holds the particles that stayed, in their old order, then the
 // arrivals, by source rank and in each source's order; it has no ghosts (build the halo after
@@ -46,6 +51,54 @@ struct WrapIntoBox {
     position[i] = x;
   }
 };
+// Key: the destination rank of particle i, or `ranks` where it stays (so that the particles
+// that stay sort last, in their order); value: i.
+template <int D, class S>
+struct DestinationKeys {
+  DecompositionView<D> decomposition;
+  View<const Vec<S, D>> positions;
+  int me;
+  View<std::uint32_t> key;
+  View<std::uint32_t> value;
+  UNISPH_HOST_DEVICE void operator()(Index i) const {
+    Vec<Real, D> x;
+    for (int a = 0; a < D; ++a) x[a] = static_cast<Real>(positions[i][a]);
+    const int owner = decomposition.owner(x);
+    key[i] = static_cast<std::uint32_t>(owner == me ? decomposition.ranks : owner);
+    value[i] = static_cast<std::uint32_t>(i);
+  }
+};
+
+struct CopySendItems {
+  View<const std::uint32_t> sorted_index;
+  View<const std::uint32_t> sorted_rank;
+  View<std::uint32_t> index;
+  View<std::int32_t> rank;
+  UNISPH_HOST_DEVICE void operator()(Index k) const {
+    index[k] = sorted_index[k];
+    rank[k] = static_cast<std::int32_t>(sorted_rank[k]);
+  }
+};
+
+// stays[i] = 1 for every particle, then 0 for each exported one (marks[i] counts its exports).
+struct ClearLeaving {
+  View<std::uint32_t> stays;
+  UNISPH_HOST_DEVICE void operator()(Index i) const { stays[i] = 1; }
+};
+struct MarkLeaving {
+  View<const std::uint32_t> index;
+  View<std::uint32_t> stays;
+  UNISPH_HOST_DEVICE void operator()(Index k) const { stays[index[k]] = 0; }
+};
+// Compacts the particles that stay: place[i] is the exclusive scan of stays.
+struct ListStaying {
+  View<const std::uint32_t> stays;
+  View<const std::uint32_t> place;
+  View<std::uint32_t> stay;
+  UNISPH_HOST_DEVICE void operator()(Index i) const {
+    if (stays[i]) stay[place[i]] = static_cast<std::uint32_t>(i);
+  }
+};
 }  // namespace migrate_detail
 
 // Wraps positions into the box along the grid's periodic axes (by one period).
@@ -56,24 +109,42 @@ void wrap_into_box(P policy, const CellGrid<D>& grid, DiscreteVariable<Vec<Real,
                                               grid.periodic});
 }
 
-// Collective: the plan that sends every owned particle (positions[0, count) on the host) whose
-// owner is another rank to its owner.
-template <int D>
-Plan migration_plan(const Communicator& comm, const Decomposition<D>& decomposition,
-                    View<const Vec<Real, D>> positions) {
+// Collective: the plan that sends every owned particle (positions[0, count) in the policy's
+// memory, float or double) whose owner is another rank to its owner, ordered by destination and
+// within one destination by index.
+template <ExecutionPolicy P, int D, class S>
+Plan migration_plan(P policy, const Communicator& comm, const Decomposition<D>& decomposition,
+                    View<const Vec<S, D>> positions, PlanScratch& scratch) {
   if (decomposition.ranks() != comm.size())
     throw Error("migration: the decomposition is for " + std::to_string(decomposition.ranks()) + " ranks, the run has " +
                 std::to_string(comm.size()));
-  std::vector<std::uint32_t> index;
-  std::vector<int> rank;
-  for (Index i = 0; i < positions.size(); ++i) {
-    const int owner = decomposition.owner(positions[i]);
-    if (owner != comm.rank()) {
-      index.push_back(static_cast<std::uint32_t>(i));
-      rank.push_back(owner);
-    }
-  }
-  return Plan(comm, index, rank);
+  const Index n = positions.size();
+  const int p = comm.size();
+  View<std::uint32_t> keys = PlanScratch::room(policy, scratch.keys, n);
+  View<std::uint32_t> values = PlanScratch::room(policy, scratch.values, n);
+  particle_for(policy, n,
+               migrate_detail::DestinationKeys<D, S>{decomposition.view(policy), positions, comm.rank(), keys, values});
+  int bits = 1;
+  while ((1 << bits) <= p) ++bits;
+  sort_pairs(policy, keys, values, 0, bits);
+  const std::vector<std::uint64_t> starts = scratch.bin_starts(policy, View<const std::uint32_t>(keys), Index(p) + 1);
+  std::vector<std::uint64_t> counts(std::size_t(p), 0);
+  for (int r = 0; r < p; ++r) counts[std::size_t(r)] = starts[std::size_t(r) + 1] - starts[std::size_t(r)];
+  return Plan::from_ordered(policy, comm, counts, [&](View<std::uint32_t> index, View<std::int32_t> rank) {
+    particle_for(policy, index.size(), migrate_detail::CopySendItems{values, keys, index, rank});
+  });
+}
+template <ExecutionPolicy P, int D, class S>
+Plan migration_plan(P policy, const Communicator& comm, const Decomposition<D>& decomposition,
+                    View<const Vec<S, D>> positions) {
+  PlanScratch scratch;
+  return migration_plan(policy, comm, decomposition, positions, scratch);
+}
+// The same from positions on the host.
+template <int D>
+Plan migration_plan(const Communicator& comm, const Decomposition<D>& decomposition,
+                    View<const Vec<Real, D>> positions) {
+  return migration_plan(SequencedPolicy{}, comm, decomposition, positions);
 }
 
 // Collective: moves the exported particles of `plan` (built from owned particles of this
@@ -81,44 +152,38 @@ Plan migration_plan(const Communicator& comm, const Decomposition<D>& decomposit
 // `owned_count` particles (no ghosts). Returns the new owned count; the registry has that size.
 template <ExecutionPolicy P>
 Index migrate(P policy, Transport& transport, const Plan& plan, VariableRegistry& variables, Index owned_count,
-              VariableExchange& exchange) {
+              VariableExchange& exchange, PlanScratch& work) {
   if (variables.size() != owned_count)
     throw Error("migrate: " + variables.owner() + " holds " + std::to_string(variables.size()) + " particles but " +
                 std::to_string(owned_count) + " are owned; drop the ghosts before migrating");
-  // The particles that stay, in order.
-  std::vector<char> leaves(owned_count, 0);
-  for (std::uint32_t i : plan.export_index()) {
-    if (i >= owned_count)
-      throw Error("migrate: the plan exports particle " + std::to_string(i) + " of " + std::to_string(owned_count));
-    leaves[i] = 1;
-  }
-  std::vector<std::uint32_t> stay;
-  stay.reserve(owned_count - plan.export_count());
-  for (Index i = 0; i < owned_count; ++i)
-    if (!leaves[i]) stay.push_back(static_cast<std::uint32_t>(i));
-  if (stay.size() + plan.export_count() != owned_count)
-    throw Error("migrate: the plan exports a particle more than once");
-  const Index kept = stay.size();
+  // The particles that stay, in order: marked, scanned and compacted by kernels.
+  const View<std::uint32_t> stays = PlanScratch::room(policy, work.counts, owned_count);
+  const View<std::uint32_t> place = PlanScratch::room(policy, work.offsets, owned_count + 1);
+  particle_for(policy, owned_count, migrate_detail::ClearLeaving{stays});
+  particle_for(policy, plan.export_count(),
+               migrate_detail::MarkLeaving{plan.export_index_variable().read(policy), stays});
+  exclusive_scan(policy, View<const std::uint32_t>(stays), place);
+  const Index kept = work.element(policy, View<const std::uint32_t>(place), owned_count);  // the scan's total
+  if (kept + plan.export_count() != owned_count)
+    throw Error("migrate: the plan exports " + std::to_string(plan.export_count()) + " items but " +
+                std::to_string(owned_count - kept) + " particles leave: it exports a particle more than once");
+  const View<std::uint32_t> stay_index = PlanScratch::room(policy, work.keys, kept);
+  particle_for(policy, owned_count, migrate_detail::ListStaying{stays, place, stay_index});
   const Index new_count = kept + plan.import_count();
 
   std::vector<VariableBase*> travelling;
   variables.for_each([&](VariableRegistry::Entry& e) {
     if (e.flags.sortable) travelling.push_back(e.variable.get());
   });
-  DiscreteVariable<std::uint32_t> stay_index("Migrate.Stay");
-  stay_index.assign(stay);
-  DiscreteVariable<std::uint32_t> scratch("Migrate.Scratch");
-
   exchange.run(
       policy, plan, transport, travelling, kept,
       [&] {
         // Compact the particles that stay to [0, kept), then make room for the arrivals.
         if (kept != owned_count) {
-          View<const std::uint32_t> order = stay_index.read(policy);
+          const View<const std::uint32_t> order(stay_index);
           for (VariableBase* v : travelling) {
             const std::size_t bytes = kept * v->element_size();
-            scratch.resize(std::max<Index>(scratch.size(), (bytes + 3) / 4));
-            void* tmp = scratch.write(policy).data();
+            void* tmp = PlanScratch::room(policy, work.bytes, (bytes + 3) / 4).data();
             void* data = v->prepare(P::space, Access::read_write);
             gather_by_permutation(policy, order, data, tmp, v->element_size());
             copy_bytes(policy, tmp, data, bytes);
@@ -128,6 +193,13 @@ Index migrate(P policy, Transport& transport, const Plan& plan, VariableRegistry
       },
       [](auto&&...) { return false; });
   return new_count;
+}
+
+template <ExecutionPolicy P>
+Index migrate(P policy, Transport& transport, const Plan& plan, VariableRegistry& variables, Index owned_count,
+              VariableExchange& exchange) {
+  PlanScratch work;
+  return migrate(policy, transport, plan, variables, owned_count, exchange, work);
 }
 
 }  // namespace unisph::comm

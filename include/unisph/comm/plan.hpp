@@ -9,8 +9,10 @@
 // source in that source's order. A pair whose destination is this rank is a copy to itself
 // (a periodic image of a particle on its own rank).
 //
-// The plan keeps its lists on the host and, for the packing kernels, as variables readable in
-// any memory space.
+// The plan keeps its lists as variables readable in any memory space (for the packing
+// kernels). A plan built on the host from lists also keeps them on the host; one built by
+// kernels (Plan::from_ordered: the migration and halo plans of a run) copies them to the host
+// only where asked (export_index() and the other spans).
 
 #include <cstdint>
 #include <memory>
@@ -18,9 +20,76 @@
 #include <vector>
 
 #include "unisph/comm/communicator.hpp"
+#include "unisph/exec/algorithms.hpp"
 #include "unisph/memory/discrete_variable.hpp"
 
 namespace unisph::comm {
+
+namespace plan_detail {
+// The source rank of received item j, from the receive offsets (ranks + 1).
+struct FillSourceRanks {
+  View<const std::uint64_t> offsets;
+  View<std::int32_t> rank;
+  UNISPH_HOST_DEVICE void operator()(Index j) const {
+    int r = 0;
+    while (std::uint64_t(j) >= offsets[Index(r) + 1]) ++r;
+    rank[j] = r;
+  }
+};
+struct CopyElement {
+  View<const std::uint32_t> from;
+  Index at;
+  View<std::uint32_t> to;
+  UNISPH_HOST_DEVICE void operator()(Index) const { to[0] = from[at]; }
+};
+
+// first[b] for b in [0, bins]: the first place of the sorted keys that is >= b (a lower bound),
+// so that bin b holds the places [first[b], first[b + 1]).
+struct BinStarts {
+  View<const std::uint32_t> keys;
+  View<std::uint64_t> first;
+  UNISPH_HOST_DEVICE void operator()(Index b) const {
+    Index lo = 0, hi = keys.size();
+    while (lo < hi) {
+      const Index mid = lo + (hi - lo) / 2;
+      if (keys[mid] < std::uint32_t(b)) lo = mid + 1;
+      else hi = mid;
+    }
+    first[b] = lo;
+  }
+};
+}  // namespace plan_detail
+
+// Reusable storage of the kernels that build plans (keys, values, counts), so that a plan built
+// every step allocates nothing once the sizes settle.
+struct PlanScratch {
+  DiscreteVariable<std::uint32_t> keys{"Plan.Keys"};
+  DiscreteVariable<std::uint32_t> values{"Plan.Values"};
+  DiscreteVariable<std::uint32_t> counts{"Plan.Counts"};
+  DiscreteVariable<std::uint32_t> offsets{"Plan.Offsets"};
+  DiscreteVariable<std::uint64_t> starts{"Plan.BinStarts"};
+  DiscreteVariable<std::uint32_t> bytes{"Plan.Bytes"};  // 4-byte words of a variable being compacted
+  DiscreteVariable<std::uint32_t> one{"Plan.One", 1};
+  // Grows `v` to at least n elements (never shrinks) and returns the first n.
+  template <class P, class T>
+  static View<T> room(P policy, DiscreteVariable<T>& v, Index n) {
+    if (v.size() < n) v.resize(n + n / 8 + 64);
+    return v.read_write(policy).subview(0, n);
+  }
+  // view[i] on the host (one element copied, not the view).
+  template <class P>
+  std::uint32_t element(P policy, View<const std::uint32_t> view, Index i) {
+    particle_for(policy, 1, plan_detail::CopyElement{view, i, one.write(policy)});
+    return one.to_vector()[0];
+  }
+  // The starts of `bins` bins of keys sorted ascending (bins + 1 values, on the host).
+  template <class P>
+  std::vector<std::uint64_t> bin_starts(P policy, View<const std::uint32_t> sorted, Index bins) {
+    starts.resize(bins + 1);
+    particle_for(policy, bins + 1, plan_detail::BinStarts{sorted, starts.write(policy)});
+    return starts.to_vector();
+  }
+};
 
 class Plan {
  public:
@@ -28,9 +97,32 @@ class Plan {
   // export_index[k].
   Plan(const Communicator& comm, std::span<const std::uint32_t> export_index, std::span<const int> export_rank);
 
+  // Collective. A plan whose send items a kernel lists, already ordered by destination:
+  // send_counts[r] items for rank r, in rank order; fill(index, rank) writes the local index
+  // and the destination of each in the policy's memory space. Nothing passes through the host
+  // but the counts.
+  template <ExecutionPolicy P, class Fill>
+  static Plan from_ordered(P policy, const Communicator& comm, std::span<const std::uint64_t> send_counts,
+                           Fill&& fill) {
+    Plan plan(comm);
+    plan.set_send_counts(comm, send_counts);
+    const Index n = plan.send_offsets_.back();
+    plan.vars_->export_index.resize(n);
+    plan.vars_->export_rank.resize(n);
+    fill(plan.vars_->export_index.write(policy), plan.vars_->export_rank.write(policy));
+    plan.receive_counts(comm);
+    plan.vars_->import_rank.resize(plan.import_count_);
+    particle_for(policy, plan.import_count_,
+                 plan_detail::FillSourceRanks{plan.vars_->recv_offsets.read(policy),
+                                              plan.vars_->import_rank.write(policy)});
+    plan.export_count_ = n;
+    plan.host_lists_ = false;
+    return plan;
+  }
+
   int ranks() const { return ranks_; }
   int rank() const { return rank_; }
-  Index export_count() const { return export_index_.size(); }
+  Index export_count() const { return export_count_; }
   Index import_count() const { return import_count_; }
 
   // Items per rank and their exclusive scans (ranks() + 1 entries; the last is the total).
@@ -40,12 +132,23 @@ class Plan {
   std::span<const std::uint64_t> recv_offsets() const { return recv_offsets_; }
 
   // Send item k (ordered by destination) is local item export_index()[k], for rank
-  // export_rank()[k]; it was entry export_order()[k] of the list the plan was built from.
-  std::span<const std::uint32_t> export_index() const { return export_index_; }
-  std::span<const std::int32_t> export_rank() const { return export_rank_; }
+  // export_rank()[k]; it was entry export_order()[k] of the list the plan was built from
+  // (empty for a plan from_ordered). Copied from the variables on first use where a kernel
+  // built the plan.
+  std::span<const std::uint32_t> export_index() const {
+    copy_lists_to_host();
+    return export_index_;
+  }
+  std::span<const std::int32_t> export_rank() const {
+    copy_lists_to_host();
+    return export_rank_;
+  }
   std::span<const std::uint32_t> export_order() const { return export_order_; }
   // Source rank of each received item.
-  std::span<const std::int32_t> import_rank() const { return import_rank_; }
+  std::span<const std::int32_t> import_rank() const {
+    copy_lists_to_host();
+    return import_rank_;
+  }
 
   // The same lists as variables, for kernels in any memory space.
   DiscreteVariable<std::uint32_t>& export_index_variable() const { return vars_->export_index; }
@@ -55,6 +158,11 @@ class Plan {
   DiscreteVariable<std::uint64_t>& recv_offsets_variable() const { return vars_->recv_offsets; }
 
  private:
+  explicit Plan(const Communicator& comm);
+  void set_send_counts(const Communicator& comm, std::span<const std::uint64_t> send_counts);
+  void receive_counts(const Communicator& comm);  // recv counts, offsets and the offsets' variables
+  void copy_lists_to_host() const;
+
   struct Variables {
     DiscreteVariable<std::uint32_t> export_index{"Plan.ExportIndex"};
     DiscreteVariable<std::int32_t> export_rank{"Plan.ExportRank"};
@@ -65,9 +173,12 @@ class Plan {
   int ranks_ = 1;
   int rank_ = 0;
   Index import_count_ = 0;
+  Index export_count_ = 0;
   std::vector<std::uint64_t> send_counts_, recv_counts_, send_offsets_, recv_offsets_;
-  std::vector<std::uint32_t> export_index_, export_order_;
-  std::vector<std::int32_t> export_rank_, import_rank_;
+  mutable bool host_lists_ = true;  // export_index_, export_rank_ and import_rank_ are current
+  mutable std::vector<std::uint32_t> export_index_;
+  std::vector<std::uint32_t> export_order_;
+  mutable std::vector<std::int32_t> export_rank_, import_rank_;
   std::unique_ptr<Variables> vars_;
 };
 

@@ -69,6 +69,10 @@ class VariableBase {
   void* device_ = nullptr;
   bool host_allocated_ = false;
   bool device_allocated_ = false;
+  // Bytes allocated on each side: a resize within them keeps the allocation (a run on several
+  // ranks resizes every particle variable at each step as particles migrate and ghosts change).
+  std::size_t host_capacity_ = 0;
+  std::size_t device_capacity_ = 0;
   bool current_[2] = {true, false};
   std::uint64_t stamp_[2] = {0, 0};
   std::uint64_t copies_to_device_ = 0;

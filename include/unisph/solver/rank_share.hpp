@@ -75,6 +75,14 @@ class RankShare {
   T travel_limit() const { return skin_ / T(2); }
   std::uint64_t rebalances() const { return rebalances_; }
 
+  // Where a rank's time in the layer went (see the header comment).
+  struct Timings {
+    double plan_seconds = 0;      // migration and halo plans
+    double exchange_seconds = 0;  // migrate, gather and refresh exchanges (packing included)
+    std::uint64_t exchanges = 0;
+  };
+  const Timings& timings() const { return timings_; }
+
   // Collective: cuts the domain anew with the fluid's owned particles as weights.
   void decompose(Body<T, D>& fluid) {
     const std::vector<PlanPosition> x = plan_positions(fluid);
@@ -125,34 +133,65 @@ class RankShare {
   void migrate(P policy, Body<T, D>& body) {
     ParticleSet& set = body.particles();
     if (set.ghost_count() != 0) set.set_ghost_count(0);
-    const std::vector<PlanPosition> x = plan_positions(body);
-    const comm::Plan plan = comm::migration_plan<D>(comm_, decomposition_, View<const PlanPosition>(x.data(), x.size()));
-    const Index owned = comm::migrate(policy, *transport_, plan, set.variables(), set.owned_count(), exchange_);
+    const auto t0 = now(policy);
+    const comm::Plan plan = comm::migration_plan(policy, comm_, decomposition_, owned_positions(policy, body), work_);
+    const auto t1 = now(policy);
+    const Index owned = comm::migrate(policy, *transport_, plan, set.variables(), set.owned_count(), exchange_, work_);
     set.adopt_owned(policy, owned);
+    const auto t2 = now(policy);
+    timings_.plan_seconds += seconds(t0, t1);
+    timings_.exchange_seconds += seconds(t1, t2);
+    ++timings_.exchanges;
     migrated_ += plan.export_count();
   }
 
-  // Collective: builds `halo` from the owned positions and fills the ghosts with every sortable
-  // variable.
+  // Collective: builds `halo` from the owned positions (anew, or in its storage where it exists)
+  // and fills the ghosts with every sortable variable.
   template <ExecutionPolicy P>
   void gather(P policy, Body<T, D>& body, std::unique_ptr<Halo>& halo) {
     ParticleSet& set = body.particles();
     if (set.ghost_count() != 0) set.set_ghost_count(0);
-    const std::vector<PlanPosition> x = plan_positions(body);
-    halo = std::make_unique<Halo>(comm_, decomposition_, View<const PlanPosition>(x.data(), x.size()), Real(width_));
+    const auto t0 = now(policy);
+    if (halo)
+      halo->build(policy, comm_, decomposition_, owned_positions(policy, body), Real(width_));
+    else
+      halo = std::make_unique<Halo>(policy, comm_, decomposition_, owned_positions(policy, body), Real(width_));
+    const auto t1 = now(policy);
     halo->gather(policy, *transport_, set, body.positions().name());
+    const auto t2 = now(policy);
+    timings_.plan_seconds += seconds(t0, t1);
+    timings_.exchange_seconds += seconds(t1, t2);
+    ++timings_.exchanges;
   }
   // Collective: the named variables of the ghosts again, from their owners' current values.
   template <ExecutionPolicy P>
   void refresh(P policy, Body<T, D>& body, Halo& halo, std::span<const std::string> names) {
+    const auto t0 = now(policy);
     halo.refresh(policy, *transport_, body.particles(), body.positions().name(), names);
+    timings_.exchange_seconds += seconds(t0, now(policy));
+    ++timings_.exchanges;
   }
 
   // Particles sent to another rank by migrate() since the start, on this rank.
   std::uint64_t migrated() const { return migrated_; }
 
  private:
-  // The owned positions on the host, in Real (the plans' arithmetic).
+  // The clock after the device's queued work (so that a phase's time includes its kernels).
+  template <ExecutionPolicy P>
+  static std::chrono::steady_clock::time_point now(P policy) {
+    fence(policy);
+    return std::chrono::steady_clock::now();
+  }
+  static double seconds(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
+    return std::chrono::duration<double>(b - a).count();
+  }
+  // The owned positions in the policy's memory.
+  template <ExecutionPolicy P>
+  static View<const Vec<T, D>> owned_positions(P policy, Body<T, D>& body) {
+    return body.positions().read(policy).subview(0, body.particles().owned_count());
+  }
+
+  // The owned positions on the host, in Real (the decomposition's histograms).
   static std::vector<PlanPosition> plan_positions(Body<T, D>& body) {
     const Index n = body.particles().owned_count();
     View<const Vec<T, D>> x = body.positions().read(MemorySpace::host);
@@ -170,6 +209,8 @@ class RankShare {
   comm::CellGrid<D> grid_{};
   comm::Decomposition<D> decomposition_;
   comm::VariableExchange exchange_;
+  comm::PlanScratch work_;
+  Timings timings_;
   std::uint64_t decompositions_ = 0;
   bool measure_cut_ = true;  // the first check measures the first cut
   double reached_ = 1;       // max / mean right after the last cut
