@@ -1,13 +1,18 @@
 // The cell linked list: CSR structure (every particle once, in the cell its position says),
-// the same on every policy; the search grid's geometry and its errors.
+// the same on every policy; ordered by id, each cell's particles in ascending id (the
+// brute-force order, on every policy); the search grid's geometry and its errors.
 #include <algorithm>
 #include <cstdint>
 #include <limits>
+#include <numeric>
+#include <random>
+#include <tuple>
 #include <vector>
 
 #include "neighbor_scenarios.hpp"
 #include "support/policy_test.hpp"
 #include "unisph/neighbor/cell_linked_list.hpp"
+#include "unisph/particles/body.hpp"
 
 namespace {
 using namespace unisph;
@@ -101,6 +106,134 @@ TYPED_TEST(CellListBuild, FlaggedParticlesGoToTheirOwnBucketAndRebuildsStartClea
   // The box faces belong to the box: the corner (1, 1, 1) is in the last cell.
   EXPECT_EQ(cells.grid().place({{1.0, 1.0, 1.0}}).status, placement_inside);
   EXPECT_EQ(cells.grid().place({{1.0, 1.0, 1.0}}).cell, (Vec<int, 3>{{4, 4, 4}}));
+}
+
+// Ordered by id: a set whose owned particles carry shuffled ids from first_id = 1000 on, and
+// ghosts after them that carry owned particles' ids (as a halo's do) elsewhere in the box, plus
+// ghosts whose id nobody wrote (below first_id and past the set's ids), one outside the box and
+// one with a NaN coordinate. Each bucket must list exactly the brute-force order: ascending
+// (id, index), an id out of range as the set's id count. The list is in cell order exactly when
+// that order is the identity, which it becomes once the particles are arranged by (bucket, id).
+template <class T, int D, class P>
+void check_id_order(P policy, Layout layout, OutsideParticles outside) {
+  SCOPED_TRACE(std::string(to_string(layout)) + ", " + std::to_string(D) + "D, " +
+               (sizeof(T) == 4 ? "float" : "double") + (outside == OutsideParticles::flag ? ", flag" : ", clamp"));
+  const Scenario<T, D> s = make_scenario<T, D>(layout);
+  const Index owned = s.positions.size();
+  const std::uint64_t first_id = 1000;
+  ParticleSet set("Water", owned, 0, first_id);
+  DiscreteVariable<Vec<T, D>>& x = set.add_variable(position_tag<T, D>, sortable_output_variable);
+  std::mt19937_64 rng(11 + owned);
+  std::vector<Vec<T, D>> positions = s.positions;
+  std::vector<std::uint64_t> ids(owned);
+  std::iota(ids.begin(), ids.end(), first_id);
+  std::shuffle(ids.begin(), ids.end(), rng);
+  const Index copies = owned / 5;
+  for (Index g = 0; g < copies; ++g) {
+    positions.push_back(random_point<T, D>(rng, 0, 1));
+    ids.push_back(ids[(g * 7) % owned]);
+  }
+  const T nan = std::numeric_limits<T>::quiet_NaN();
+  const std::uint64_t unwritten[] = {0, first_id + owned + 5, first_id + owned, first_id - 1};
+  for (std::uint64_t id : unwritten) {
+    positions.push_back(random_point<T, D>(rng, 0, 1));
+    ids.push_back(id);
+  }
+  positions.push_back(Vec<T, D>::constant(T(2)));
+  ids.push_back(ids[0]);
+  Vec<T, D> with_nan = Vec<T, D>::constant(T(0.5));
+  with_nan[0] = nan;
+  positions.push_back(with_nan);
+  ids.push_back(first_id + owned - 1);
+  const Index n = positions.size();
+  set.set_ghost_count(n - owned);
+
+  CellLinkedList<T, D> cells(x, s.box, s.cutoff, outside);
+  cells.order_within_cells_by_id(set);
+  EXPECT_TRUE(cells.orders_within_cells_by_id());
+  const SearchGrid<T, D> grid = cells.grid();
+  auto bucket_of = [&](const Vec<T, D>& p) {
+    const CellPlacement<D> c = grid.place(p);
+    return outside == OutsideParticles::flag && c.status != placement_inside ? grid.cell_count()
+                                                                              : Index(grid.linear_index(c.cell));
+  };
+  // The reference: every particle's (bucket, id clamped to the set's range, index), sorted.
+  auto reference = [&]() {
+    std::vector<std::tuple<Index, std::uint64_t, std::uint32_t>> order;
+    for (Index i = 0; i < n; ++i) {
+      const std::uint64_t id = ids[i] - first_id;
+      order.emplace_back(bucket_of(positions[i]), id < std::uint64_t(owned) ? id : std::uint64_t(owned),
+                         std::uint32_t(i));
+    }
+    std::sort(order.begin(), order.end());
+    return order;
+  };
+  for (int arrangement = 0; arrangement < 2; ++arrangement) {
+    SCOPED_TRACE(arrangement == 0 ? "shuffled" : "arranged by (bucket, id)");
+    if (arrangement == 1) {  // the particles moved into the reference order: the identity
+      const auto order = reference();
+      std::vector<Vec<T, D>> p2;
+      std::vector<std::uint64_t> id2;
+      for (const auto& o : order) {
+        p2.push_back(positions[std::get<2>(o)]);
+        id2.push_back(ids[std::get<2>(o)]);
+      }
+      positions = p2;
+      ids = id2;
+    }
+    x.assign(positions);
+    set.ids().assign(ids);
+    const auto order = reference();
+    std::vector<std::uint32_t> expected_particles;
+    std::vector<std::uint32_t> expected_offsets(cells.cell_count() + 2, 0);
+    for (const auto& o : order) {
+      expected_particles.push_back(std::get<2>(o));
+      ++expected_offsets[std::get<0>(o) + 1];
+    }
+    std::partial_sum(expected_offsets.begin(), expected_offsets.end(), expected_offsets.begin());
+    bool identity = true;
+    for (Index k = 0; k < n; ++k) identity = identity && expected_particles[k] == k;
+    EXPECT_EQ(identity, arrangement == 1);
+    for (int build = 0; build < 2; ++build) {  // a rebuild starts clean
+      cells.store_positions_in_cell_order(build == 1);
+      cells.build(policy);
+      EXPECT_EQ(cells.offsets().to_vector(), expected_offsets);
+      const auto particles = cells.particles().to_vector();
+      EXPECT_EQ(particles, expected_particles);
+      const CellListReport r = cells.report();
+      EXPECT_EQ(r.in_cell_order, identity);
+      EXPECT_EQ(r.out_of_box, 1u);
+      EXPECT_EQ(r.non_finite, 1u);
+      EXPECT_EQ(r.flagged, outside == OutsideParticles::flag ? 2u : 0u);
+      if (build == 1 && !identity) {  // the cell-ordered copy follows the list's order
+        const CellListView<T, D> view = cells.view(seq);
+        Index wrong = 0;
+        for (Index k = 0; k < n; ++k) {
+          const Vec<T, D> a = view.points[k].position(), b = positions[particles[k]];
+          for (int d = 0; d < D; ++d) wrong += !(a[d] == b[d] || (a[d] != a[d] && b[d] != b[d]));
+        }
+        EXPECT_EQ(wrong, 0u);
+      }
+    }
+  }
+}
+
+TYPED_TEST(CellListBuild, OrderedByIdListsEachCellInAscendingId) {
+  for (Layout layout : all_layouts)
+    for (OutsideParticles outside : {OutsideParticles::clamp, OutsideParticles::flag}) {
+      check_id_order<float, 2>(this->policy, layout, outside);
+      check_id_order<double, 2>(this->policy, layout, outside);
+      check_id_order<float, 3>(this->policy, layout, outside);
+      check_id_order<double, 3>(this->policy, layout, outside);
+    }
+}
+
+TYPED_TEST(CellListBuild, OrderedByIdRefusesAnotherSetsIds) {
+  ParticleSet set("Water", 3);
+  DiscreteVariable<Vec<double, 2>> x("Position", 4);
+  CellLinkedList<double, 2> cells(x, {Vec<double, 2>{}, Vec<double, 2>::constant(1.0)}, 0.25);
+  cells.order_within_cells_by_id(set);
+  EXPECT_THROW(cells.build(this->policy), Error);
 }
 
 TEST(HostSearchGrid, GeometryAndErrors) {

@@ -1,9 +1,12 @@
 // Morton reordering: keys without aliasing up to 2^21 cells per axis; after a sort every
 // particle's variables still belong to its id (a per-id fingerprint), keys are in order,
-// neighbour sets by id are unchanged, on every policy, 2D and 3D, float and double.
+// neighbour sets by id are unchanged, on every policy, 2D and 3D, float and double. The (cell,
+// id) order: a cell list ordered by id is then in cell order, and visits every particle's
+// neighbours in the same order (by id) as before the sort, through its indirection.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <numeric>
 #include <random>
 #include <set>
 #include <vector>
@@ -60,7 +63,9 @@ double fingerprint(std::uint64_t id) {
 template <class T, int D, class P>
 void check_sort(P policy, SortOrder order) {
   SCOPED_TRACE(std::to_string(D) + "D, " + (sizeof(T) == 4 ? "float" : "double") +
-               (order == SortOrder::morton ? ", Morton order" : ", cell order"));
+               (order == SortOrder::morton       ? ", Morton order"
+                : order == SortOrder::cell_index ? ", cell order"
+                                                 : ", cell then id order"));
   const Scenario<T, D> s = make_scenario<T, D>(Layout::random, 21);
   const Index n = s.positions.size();
   Body<T, D> body("Water", s.box, n, 3);  // 3 ghosts after the owned particles
@@ -118,7 +123,14 @@ void check_sort(P policy, SortOrder order) {
     wrong += !(h[i] == s.positions[id[i]] * T(0.5));
     wrong += index_of_id[id[i]] != i;
     const Vec<int, D> cell = cells.grid().place(x[i]).cell;
-    wrong += keys[i] != (order == SortOrder::morton ? morton_key<D>(cell) : cells.grid().linear_index(cell));
+    if (order == SortOrder::cell_index_then_id)
+      wrong += keys[i] != ((std::uint64_t(cells.grid().linear_index(cell)) << sorter.id_bits()) | id[i]);
+    else
+      wrong += keys[i] != (order == SortOrder::morton ? morton_key<D>(cell) : cells.grid().linear_index(cell));
+  }
+  if (order == SortOrder::cell_index_then_id) {
+    EXPECT_GE(std::uint64_t(1) << sorter.id_bits(), n + 1);  // every id, and the out-of-range one
+    EXPECT_LT(std::uint64_t(1) << sorter.id_bits(), 2 * (n + 1));
   }
   for (Index i = n; i < n + 3; ++i) wrong += f[i] != -1.0;  // ghosts untouched
   EXPECT_EQ(wrong, 0u);
@@ -129,18 +141,28 @@ void check_sort(P policy, SortOrder order) {
   EXPECT_TRUE(pairs_by_id(inner) == before) << "neighbour pairs by id changed with the order";
   // The 3 ghosts sit after the owned particles, in the middle of the box: out of cell order.
   EXPECT_FALSE(cells.report().in_cell_order);
-  if (order == SortOrder::cell_index) {
+  if (order != SortOrder::morton) {
     CellLinkedList<T, D> owned_only(set.variable(position_tag<T, D>), s.box, s.cutoff);
     body.particles().set_ghost_count(0);
     owned_only.build(policy);
     EXPECT_TRUE(owned_only.report().in_cell_order);
+    // Ordered by id: in cell order only where the ids ascend within each cell as well.
+    owned_only.order_within_cells_by_id(set);
+    owned_only.build(policy);
+    if (order == SortOrder::cell_index_then_id) {
+      EXPECT_TRUE(owned_only.report().in_cell_order);
+      const auto particles = owned_only.particles().to_vector();
+      Index moved = 0;
+      for (Index k = 0; k < n; ++k) moved += particles[k] != k;
+      EXPECT_EQ(moved, 0u);
+    }
   }
 }
 
 UNISPH_POLICY_TEST_SUITE(MortonSort);
 
 TYPED_TEST(MortonSort, EveryIdKeepsItsVariables) {
-  for (SortOrder order : {SortOrder::morton, SortOrder::cell_index}) {
+  for (SortOrder order : {SortOrder::morton, SortOrder::cell_index, SortOrder::cell_index_then_id}) {
     check_sort<float, 2>(this->policy, order);
     check_sort<double, 2>(this->policy, order);
     check_sort<float, 3>(this->policy, order);
@@ -151,12 +173,108 @@ TYPED_TEST(MortonSort, EveryIdKeepsItsVariables) {
 TYPED_TEST(MortonSort, NaNParticlesSortLast) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const Box<double, 2> box{Vec<double, 2>{}, Vec<double, 2>::constant(1.0)};
-  Body<double, 2> body("Water", box, 4);
-  body.positions().assign(std::vector<Vec<double, 2>>{{{0.9, 0.9}}, {{nan, 0.1}}, {{0.1, 0.1}}, {{0.5, 0.5}}});
-  const SearchGrid<double, 2> grid = SearchGrid<double, 2>::make(box, 0.1);
-  ParticleSorter<double, 2> sorter(body.particles(), body.positions(), grid);
-  sorter.sort(this->policy);
-  EXPECT_EQ(body.particles().ids().to_vector(), (std::vector<std::uint64_t>{2, 3, 0, 1}));
+  for (SortOrder order : {SortOrder::morton, SortOrder::cell_index, SortOrder::cell_index_then_id}) {
+    Body<double, 2> body("Water", box, 4);
+    body.positions().assign(std::vector<Vec<double, 2>>{{{0.9, 0.9}}, {{nan, 0.1}}, {{0.1, 0.1}}, {{0.5, 0.5}}});
+    const SearchGrid<double, 2> grid = SearchGrid<double, 2>::make(box, 0.1);
+    ParticleSorter<double, 2> sorter(body.particles(), body.positions(), grid, 1, order);
+    sorter.sort(this->policy);
+    EXPECT_EQ(body.particles().ids().to_vector(), (std::vector<std::uint64_t>{2, 3, 0, 1}));
+  }
+}
+
+// Each particle's neighbours as a sequence of ids, in the order the direct search visits them.
+template <class T, int D>
+struct RecordNeighborIds {
+  NeighborSearch<T, D> search;
+  View<const std::uint64_t> ids;
+  Index capacity;
+  View<std::uint64_t> found;  // row by the source's id - first_id
+  View<std::uint32_t> counts;
+  std::uint64_t first_id;
+  UNISPH_HOST_DEVICE void operator()(Index i) const {
+    const std::uint64_t row = ids[i] - first_id;
+    Index c = 0;
+    search.for_each_neighbor(i, [&](Index j, const NeighborPair<T, D>&) {
+      if (c < capacity) found[row * capacity + c] = ids[j];
+      ++c;
+    });
+    counts[row] = static_cast<std::uint32_t>(c);
+  }
+};
+
+template <class T, int D, class P>
+std::vector<std::vector<std::uint64_t>> neighbor_ids_in_visit_order(P policy, InnerRelation<T, D>& inner,
+                                                                    ParticleSet& set) {
+  const Index n = set.owned_count(), capacity = 512;
+  DiscreteVariable<std::uint64_t> found("found", n * capacity);
+  DiscreteVariable<std::uint32_t> counts("counts", n);
+  particle_for(policy, n,
+               RecordNeighborIds<T, D>{inner.search(policy), set.ids().read(policy), capacity, found.write(policy),
+                                       counts.write(policy), set.first_id()});
+  const auto f = found.to_vector();
+  const auto c = counts.to_vector();
+  std::vector<std::vector<std::uint64_t>> rows(n);
+  for (Index r = 0; r < n; ++r) {
+    EXPECT_LE(c[r], capacity);
+    rows[r].assign(f.begin() + r * capacity, f.begin() + r * capacity + std::min<Index>(c[r], capacity));
+  }
+  return rows;
+}
+
+// The order that makes several ranks agree with one: a cell list ordered by id visits each
+// particle's neighbours in one order of ids whatever the arrangement of the particles (shuffled,
+// in cell order with the ids shuffled within cells, or sorted by (cell, id): then through the
+// contiguous path), with a direct search and with stored lists, cells of the cutoff and of half.
+template <class T, int D, class P>
+void check_visit_order(P policy, SearchMethod method, T split) {
+  SCOPED_TRACE(std::to_string(D) + "D, " + (sizeof(T) == 4 ? "float" : "double") +
+               (method == SearchMethod::direct ? ", direct" : ", stored") + ", cells of cutoff / " +
+               std::to_string(int(split)));
+  const Scenario<T, D> s = make_scenario<T, D>(Layout::clustered, 5);
+  const Index n = s.positions.size();
+  Body<T, D> body("Water", s.box, n, 0);
+  ParticleSet& set = body.particles();
+  body.positions().assign(s.positions);
+  {  // shuffled: the index order is not the id order within any cell
+    std::vector<std::uint32_t> shuffle(n);
+    std::iota(shuffle.begin(), shuffle.end(), 0u);
+    std::shuffle(shuffle.begin(), shuffle.end(), std::mt19937(3));
+    DiscreteVariable<std::uint32_t> permutation("Shuffle");
+    permutation.assign(shuffle);
+    set.reorder(policy, permutation.read(policy));
+  }
+  CellLinkedList<T, D> cells(body.positions(), s.box, s.cutoff, OutsideParticles::clamp, s.cutoff / split);
+  cells.order_within_cells_by_id(set);
+  InnerRelation<T, D> inner(cells, method);
+  auto visit = [&]() {
+    cells.build(policy);
+    inner.update(policy);
+    return neighbor_ids_in_visit_order<T, D>(policy, inner, set);
+  };
+  const auto shuffled = visit();
+  EXPECT_FALSE(cells.report().in_cell_order);
+  ParticleSorter<T, D> by_cell(set, body.positions(), cells.grid(), 1, SortOrder::cell_index);
+  by_cell.sort(policy);
+  const auto in_cells = visit();
+  EXPECT_FALSE(cells.report().in_cell_order) << "the ids within the cells are still shuffled";
+  ParticleSorter<T, D> by_cell_and_id(set, body.positions(), cells.grid(), 1, SortOrder::cell_index_then_id);
+  by_cell_and_id.sort(policy);
+  const auto sorted = visit();
+  EXPECT_TRUE(cells.report().in_cell_order);
+  EXPECT_TRUE(in_cells == shuffled);
+  EXPECT_TRUE(sorted == shuffled);
+  Index pairs = 0;  // the comparison saw pairs
+  for (const auto& row : sorted) pairs += row.size();
+  EXPECT_GT(pairs, n);
+}
+
+TYPED_TEST(MortonSort, CellThenIdOrderVisitsNeighborsAsTheIdOrderedList) {
+  for (SearchMethod method : {SearchMethod::direct, SearchMethod::stored})
+    for (int split : {1, 2}) {
+      check_visit_order<float, 2>(this->policy, method, float(split));
+      check_visit_order<double, 3>(this->policy, method, double(split));
+    }
 }
 
 }  // namespace

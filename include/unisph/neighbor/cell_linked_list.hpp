@@ -15,6 +15,19 @@
 // host wait) and the direct search then reads positions contiguously, without the indirection
 // through `particles`, in ascending j (a deterministic order).
 //
+// Ordered by id (order_within_cells_by_id(set)): each cell lists its particles in ascending
+// global id (the set's "ParticleId"), whoever owns them and wherever they sit in the arrays
+// (ghosts carry their owner's id), so that every neighbour sum has one order on any number of
+// ranks and on every policy. `particles` is then a stable radix sort (sort_pairs, CUB on the
+// device) of the keys (bucket << id_bits) | (id - first_id) with the particle indices as values;
+// the counts and the scan give the offsets as before, and the counting atomics give no slots.
+// The list is then "in cell order" (the direct search's contiguous path) only where `particles`
+// is the identity, i.e. the keys ascend with the index (ParticleSorter with
+// SortOrder::cell_index_then_id): the same order either way. On the host a sort of keys that
+// already ascend is skipped (the check is the pass that tells cell order); the device always
+// sorts (no host wait) and gets the same identity. An id outside the set's range (a slot nobody
+// wrote) sorts after the cell's others, by index.
+//
 // On request (store_positions_in_cell_order) the build also writes a copy of the positions in
 // the list's order, padded to 16 bytes in 3D float (CellPoint), for particles that are not in
 // cell order (e.g. in Morton order): a search that visits its sources in the list's order
@@ -42,6 +55,7 @@
 #include "unisph/exec/atomic.hpp"
 #include "unisph/memory/discrete_variable.hpp"
 #include "unisph/neighbor/search_grid.hpp"
+#include "unisph/particles/particle_set.hpp"
 
 namespace unisph {
 
@@ -54,7 +68,7 @@ struct CellListReport {
   Index out_of_box = 0;
   Index non_finite = 0;
   Index flagged = 0;
-  bool in_cell_order = false;  // the particles were in cell order (see the header comment)
+  bool in_cell_order = false;  // the particles were in cell order (ordered by id: and by id in each cell)
 };
 
 // A position as the cell-ordered copy holds it: the D coordinates padded to a power-of-two
@@ -91,7 +105,8 @@ struct CellListView {
   View<const CellPoint<T, D>> points;
 
   UNISPH_HOST_DEVICE Index flagged_bucket() const { return offsets.size() - 2; }
-  // True when the particles of cell c are exactly the indices offsets[c] .. offsets[c + 1].
+  // True when the particles of cell c are exactly the indices offsets[c] .. offsets[c + 1]
+  // (for a list ordered by id: `particles` is the identity, so the ids ascend within each cell).
   UNISPH_HOST_DEVICE bool in_cell_order() const { return counters[3] == 0; }
 };
 
@@ -113,7 +128,7 @@ struct CountParticles {
   std::uint32_t flagged_bucket;
   View<const Vec<T, D>> positions;
   View<std::uint32_t> bucket_of;
-  View<std::uint32_t> slot_of;
+  View<std::uint32_t> slot_of;  // empty when the list is ordered by id (the sort places them)
   View<std::uint32_t> counts;
   View<unsigned long long> counters;  // out of box, non-finite, flagged, not in cell order
 
@@ -129,7 +144,8 @@ struct CountParticles {
       }
     }
     bucket_of[i] = bucket;
-    slot_of[i] = atomic_increment_shared(&counts[bucket]);
+    const std::uint32_t slot = atomic_increment_shared(&counts[bucket]);
+    if (!slot_of.empty()) slot_of[i] = slot;
   }
 };
 
@@ -160,6 +176,32 @@ struct CheckCellOrder {
   UNISPH_HOST_DEVICE void operator()(Index i) const {
     raise_flag_if(bucket_of[i + 1] < bucket_of[i], &counters[3]);
   }
+};
+
+// Ordered by id: particle i's sort key, (bucket << id_bits) | (id - first_id), an id outside
+// [first_id, first_id + id_count) as id_count (after the cell's others; the sort is stable), and
+// its index as the value the sort carries into `particles`.
+struct IdKeys {
+  View<const std::uint32_t> bucket_of;
+  View<const std::uint64_t> ids;
+  std::uint64_t first_id;
+  std::uint64_t id_count;
+  int id_bits;
+  View<std::uint64_t> keys;
+  View<std::uint32_t> particles;
+  UNISPH_HOST_DEVICE void operator()(Index i) const {
+    const std::uint64_t id = ids[i] - first_id;  // below first_id: wraps to a large value
+    keys[i] = (std::uint64_t(bucket_of[i]) << id_bits) | (id < id_count ? id : id_count);
+    particles[i] = static_cast<std::uint32_t>(i);
+  }
+};
+
+// Ordered by id: sets counters[3] when some key is below its predecessor's. The stable sort of
+// the keys is then not the identity; with no flag it is, and the list is in cell order.
+struct CheckKeyOrder {
+  View<const std::uint64_t> keys;
+  View<unsigned long long> counters;
+  UNISPH_HOST_DEVICE void operator()(Index i) const { raise_flag_if(keys[i + 1] < keys[i], &counters[3]); }
 };
 
 struct FillCells {
@@ -214,7 +256,14 @@ class CellLinkedList {
         bucket_of_(positions.name() + ".CellOfParticle"),
         slot_of_(positions.name() + ".SlotInCell"),
         counters_(positions.name() + ".CellListCounters", 4),
-        points_(positions.name() + ".CellOrderedPositions") {}
+        points_(positions.name() + ".CellOrderedPositions"),
+        keys_(positions.name() + ".CellSortKeys") {}
+
+  // Lists each cell's particles in ascending id (`set`'s "ParticleId", which must have one
+  // element per position: the set whose positions these are) from the next build on (see the
+  // header comment). Costs a radix sort of 64-bit keys per build (docs/neighbor_search.md).
+  void order_within_cells_by_id(ParticleSet& set) { id_set_ = &set; }
+  bool orders_within_cells_by_id() const { return id_set_ != nullptr; }
 
   // Also keep a copy of the positions in the list's order at each build (see the header
   // comment); takes effect at the next build.
@@ -240,9 +289,13 @@ class CellLinkedList {
     if (n >= Index(std::numeric_limits<std::uint32_t>::max()))
       throw Error("CellLinkedList: " + std::to_string(n) + " particles in " + positions_.describe() +
                   "; cell lists index particles with 32 bits");
+    const bool by_id = id_set_ != nullptr;
+    if (by_id && id_set_->ids().size() != n)
+      throw Error("CellLinkedList over " + positions_.describe() + ": ordered by the ids of particle set '" +
+                  id_set_->name() + "', which holds " + std::to_string(id_set_->ids().size()) + " particles");
     particles_.resize(n);
     bucket_of_.resize(n);
-    slot_of_.resize(n);
+    slot_of_.resize(by_id ? 0 : n);
     const Index buckets = grid_.cell_count() + 1;
     View<std::uint32_t> offsets = offsets_.write(policy);
     View<unsigned long long> counters = counters_.write(policy);
@@ -251,12 +304,18 @@ class CellLinkedList {
                  cell_list_detail::CountParticles<T, D>{grid_, outside_ == OutsideParticles::flag,
                                                         static_cast<std::uint32_t>(grid_.cell_count()),
                                                         positions_.read(policy), bucket_of_.write(policy),
-                                                        slot_of_.write(policy), offsets, counters});
-    if (n > 1) particle_for(policy, n - 1, cell_list_detail::CheckCellOrder{bucket_of_.read(policy), counters});
+                                                        by_id ? View<std::uint32_t>{} : slot_of_.write(policy),
+                                                        offsets, counters});
+    if (by_id) {
+      sort_by_id(policy, n, counters);
+    } else if (n > 1) {
+      particle_for(policy, n - 1, cell_list_detail::CheckCellOrder{bucket_of_.read(policy), counters});
+    }
     exclusive_scan(policy, View<const std::uint32_t>(offsets.subview(0, buckets)), offsets);
-    particle_for(policy, n,
-                 cell_list_detail::FillCells{bucket_of_.read(policy), slot_of_.read(policy), offsets,
-                                             particles_.write(policy)});
+    if (!by_id)
+      particle_for(policy, n,
+                   cell_list_detail::FillCells{bucket_of_.read(policy), slot_of_.read(policy), offsets,
+                                               particles_.write(policy)});
     if (store_points_) {
       points_.resize(n);
       particle_for(policy, n,
@@ -292,6 +351,36 @@ class CellLinkedList {
   }
 
  private:
+  // `particles` as the stable sort of the (bucket, id) keys (see the header comment);
+  // counters[3] set where the keys do not ascend with the index.
+  template <ExecutionPolicy P>
+  void sort_by_id(P policy, Index n, View<unsigned long long> counters) {
+    ParticleSet& set = *id_set_;
+    const std::uint64_t id_count = set.index_of_id().size();
+    int id_bits = 0;
+    while (id_bits < 64 && (std::uint64_t(1) << id_bits) <= id_count) ++id_bits;  // id_count itself fits
+    int bucket_bits = 0;
+    while ((std::uint64_t(1) << bucket_bits) <= std::uint64_t(grid_.cell_count())) ++bucket_bits;
+    if (bucket_bits + id_bits > 64)
+      throw Error("CellLinkedList over " + positions_.describe() + ": " + std::to_string(grid_.cell_count()) +
+                  " cells and " + std::to_string(id_count) + " ids of particle set '" + set.name() +
+                  "' need " + std::to_string(bucket_bits + id_bits) + " key bits; ordering by id sorts 64");
+    keys_.resize(n);
+    View<std::uint64_t> keys = keys_.write(policy);
+    View<std::uint32_t> particles = particles_.write(policy);
+    particle_for(policy, n,
+                 cell_list_detail::IdKeys{bucket_of_.read(policy), set.ids().read(policy), set.first_id(), id_count,
+                                          id_bits, keys, particles});
+    if (n < 2) return;
+    particle_for(policy, n - 1, cell_list_detail::CheckKeyOrder{keys, counters});
+    // On the host the flag is at hand: keys that already ascend need no sort (what follows a
+    // (cell, id) sort of the particles). The device sorts anyway rather than wait for the flag.
+    if constexpr (P::space == MemorySpace::host) {
+      if (counters[3] == 0) return;
+    }
+    sort_pairs(policy, keys, particles, 0, bucket_bits + id_bits);
+  }
+
   DiscreteVariable<Position>& positions_;
   SearchGrid<T, D> grid_;
   OutsideParticles outside_;
@@ -301,6 +390,8 @@ class CellLinkedList {
   DiscreteVariable<std::uint32_t> slot_of_;
   DiscreteVariable<unsigned long long> counters_;
   DiscreteVariable<CellPoint<T, D>> points_;
+  DiscreteVariable<std::uint64_t> keys_;  // ordered by id: the sort keys
+  ParticleSet* id_set_ = nullptr;         // ordered by the ids of this set; null: by the atomics
   bool store_points_ = false;
   Index built_count_ = 0;
   std::uint64_t builds_ = 0;

@@ -12,6 +12,13 @@
 // and the cell list's direct search reads them without indirection (see
 // cell_linked_list.hpp). Morton order keeps more of the 3D neighbourhood together in
 // memory; docs/neighbor_search.md compares the two.
+//
+// SortOrder::cell_index_then_id sorts by (cell index, id): cell order with the ids ascending
+// within each cell, which is the order of a cell list ordered by id
+// (CellLinkedList::order_within_cells_by_id). Such a list over the sorted set is then in cell
+// order (no indirection), and its neighbours are visited in the same order as through the
+// indirection of any other arrangement of the same particles (ghosts from other ranks
+// included): the order that makes a run on several ranks the same bits as on one.
 
 #include <cstdint>
 
@@ -23,7 +30,7 @@
 
 namespace unisph {
 
-enum class SortOrder { morton, cell_index };
+enum class SortOrder { morton, cell_index, cell_index_then_id };
 
 namespace sorter_detail {
 template <class T, int D>
@@ -35,10 +42,21 @@ struct ComputeKeys {
   View<const Vec<T, D>> positions;
   View<std::uint64_t> keys;
   View<std::uint32_t> indices;
+  // SortOrder::cell_index_then_id: the key is shifted up by id_bits and (id - first_id) fills
+  // them (an id outside the set's id_count ids as id_count); ids empty otherwise.
+  View<const std::uint64_t> ids;
+  std::uint64_t first_id = 0;
+  std::uint64_t id_count = 0;
+  int id_bits = 0;
   UNISPH_HOST_DEVICE void operator()(Index i) const {
     const CellPlacement<D> p = grid.place(positions[i]);
     const bool last = (p.status & placement_non_finite) || (flag_outside && p.status != placement_inside);
-    keys[i] = last ? last_key : (morton ? morton_key<D>(p.cell) : std::uint64_t(grid.linear_index(p.cell)));
+    std::uint64_t key = last ? last_key : (morton ? morton_key<D>(p.cell) : std::uint64_t(grid.linear_index(p.cell)));
+    if (!ids.empty()) {
+      const std::uint64_t id = ids[i] - first_id;
+      key = (key << id_bits) | (id < id_count ? id : id_count);
+    }
+    keys[i] = key;
     indices[i] = static_cast<std::uint32_t>(i);
   }
 };
@@ -70,6 +88,14 @@ class ParticleSorter {
       while ((std::uint64_t(1) << key_bits_) < grid.cell_count()) ++key_bits_;
       key_bits_ += 1;
     }
+    if (order == SortOrder::cell_index_then_id) {
+      id_count_ = particles.index_of_id().size();  // ids lie in [first_id, first_id + id_count)
+      while (id_bits_ < 64 && (std::uint64_t(1) << id_bits_) <= id_count_) ++id_bits_;
+      if (key_bits_ + id_bits_ > 64)
+        throw Error("ParticleSorter of '" + particles.name() + "': " + std::to_string(grid.cell_count()) + " cells and " +
+                    std::to_string(id_count_) + " ids need " + std::to_string(key_bits_ + id_bits_) +
+                    " key bits; the sort keys have 64");
+    }
   }
 
   template <ExecutionPolicy P>
@@ -77,12 +103,16 @@ class ParticleSorter {
     const Index n = particles_.owned_count();
     keys_.resize(n);
     permutation_.resize(n);
+    const bool by_id = order_ == SortOrder::cell_index_then_id;
     particle_for(policy, n,
                  sorter_detail::ComputeKeys<T, D>{grid_, order_ == SortOrder::morton, flag_outside_,
                                                   std::uint64_t(1) << (key_bits_ - 1),
                                                   positions_.read(policy), keys_.write(policy),
-                                                  permutation_.write(policy)});
-    sort_pairs(policy, keys_.read_write(policy), permutation_.read_write(policy), 0, key_bits_);
+                                                  permutation_.write(policy),
+                                                  by_id ? View<const std::uint64_t>(particles_.ids().read(policy))
+                                                        : View<const std::uint64_t>{},
+                                                  particles_.first_id(), id_count_, id_bits_});
+    sort_pairs(policy, keys_.read_write(policy), permutation_.read_write(policy), 0, key_bits_ + id_bits_);
     particles_.reorder(policy, permutation_.read(policy));
     ++sorts_;
   }
@@ -95,7 +125,10 @@ class ParticleSorter {
     return true;
   }
 
-  int key_bits() const { return key_bits_; }
+  // The bits sorted: those of the cell key (plus one for the particles sorted last) below
+  // id_bits() bits of the id (SortOrder::cell_index_then_id; 0 otherwise).
+  int key_bits() const { return key_bits_ + id_bits_; }
+  int id_bits() const { return id_bits_; }
   Index sorts() const { return sorts_; }
   DiscreteVariable<std::uint64_t>& keys() { return keys_; }
   // After sort(): the old index of the particle now at index k.
@@ -109,6 +142,8 @@ class ParticleSorter {
   SortOrder order_;
   bool flag_outside_;
   int key_bits_ = 1;
+  int id_bits_ = 0;
+  std::uint64_t id_count_ = 0;
   DiscreteVariable<std::uint64_t> keys_;
   DiscreteVariable<std::uint32_t> permutation_;
   Index sorts_ = 0;

@@ -20,7 +20,8 @@
 // build() orders the images by their source's index, then by image code (deterministic, the
 // same on every policy): ghost g (slot owned_count() + g) is the image of owned particle
 // sources()[g], shifted by the code codes()[g] = sum_a d_a 3^a, d_a = 0 (no shift along axis a),
-// 1 (+L_a: the source is near the lower face) or 2 (-L_a: near the upper face).
+// 1 (+L_a: the source is near the lower face) or 2 (-L_a: near the upper face). An image gets
+// its source's id ("ParticleId") too.
 //
 // The ghost slots are the images': set_ghost_count() is called with their number (which
 // resizes every variable of the set when the number changes: see docs/neighbor_search.md,
@@ -319,10 +320,16 @@ class PeriodicImages {
     check_positions();
     sources_.resize(total);
     codes_.resize(total);
-    if (total > 0)
+    if (total > 0) {
       particle_for(policy, owned,
                    periodic_detail::FillImages<T, D>{domain_, offsets_.read(policy), positions_.read_write(policy),
                                                      sources_.write(policy), codes_.write(policy), owned});
+      // An image carries its source's id, as a ghost from another rank carries its owner's: a
+      // cell list ordered by id (CellLinkedList::order_within_cells_by_id) places it by that id.
+      particle_for(policy, total,
+                   periodic_detail::CopyToImages<std::uint64_t>{sources_.read(policy),
+                                                                particles_.ids().read_write(policy), owned});
+    }
     ++builds_;
   }
 

@@ -309,8 +309,8 @@ struct WeaklyCompressibleSolver<T, D>::State {
         wall_cells(wall.position, search_box, kernel.cutoff(), OutsideParticles::clamp, cell_size_of(c, kind, kernel.cutoff())),
         inner(fluid_cells, search_method_of(c)),
         contact(fluid.position, wall_cells, search_method_of(c)),
-        fluid_sorter(fluid_body.particles(), fluid.position, fluid_cells.grid(), 1, SortOrder::cell_index),
-        wall_sorter(wall_body.particles(), wall.position, wall_cells.grid(), 1, SortOrder::cell_index),
+        fluid_sorter(fluid_body.particles(), fluid.position, fluid_cells.grid(), 1, SortOrder::cell_index_then_id),
+        wall_sorter(wall_body.particles(), wall.position, wall_cells.grid(), 1, SortOrder::cell_index_then_id),
         eos{T(c.density), T(c.sound_speed)},
         riemann(AcousticRiemannSolver<T>::make(T(c.density), T(c.sound_speed))),
         wall_volume(volume_of(c.dx)),
@@ -336,6 +336,11 @@ struct WeaklyCompressibleSolver<T, D>::State {
         front(fluid, 0, T(c.dx)),
         energy(fluid, gravity_of(c)),
         total_mass(fluid) {
+    // Neighbours in one order on any number of ranks: cells in the stencil's order, particles
+    // within a cell by global id (owned or ghost alike); the sorters' (cell, id) order keeps the
+    // lists' contiguous path where a set has no ghosts.
+    fluid_cells.order_within_cells_by_id(fluid_body.particles());
+    wall_cells.order_within_cells_by_id(wall_body.particles());
     if (particles.fluid.empty())
       throw Error("case '" + c.name + "': the fluid holds no particle at dx = " + std::to_string(c.dx) +
                   (removed_fluid ? " (the obstacles took all " + std::to_string(removed_fluid) + ")" : std::string()));
