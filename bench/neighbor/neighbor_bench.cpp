@@ -2,12 +2,18 @@
 // h = 1.3 dx, cutoff 2h, FP32, in Morton order (ParticleSorter), in cell order
 // (ParticleSorter with SortOrder::cell_index) and in a random permutation.
 //   BM_CellListBuild      count -> scan -> fill of the cell linked list
+//   BM_CellListBuildById  the same list with each cell's particles in ascending id
+//                         (CellLinkedList::order_within_cells_by_id: count -> keys -> radix
+//                         sort -> scan; in cell order, whose ids ascend here, the host skips
+//                         the sort)
 //   BM_StoredListBuild    the stored neighbour lists with their cached pair geometry (one direct
 //                         search filling fixed slots per particle; a second one where the
 //                         capacity grows, i.e. only at the first build of the Case)
 //   BM_DensityPass        one pass of rho_i = m sum_j W(r_ij) (Wendland C2), direct search
 //                         or stored lists, through the kernel-shell layer (InteractionDynamics)
 //   BM_MortonSort         keys, radix sort and permutation of the sortable variables
+//   BM_CellSort           the same by cell index (SortOrder::cell_index) and by (cell index,
+//                         id) (SortOrder::cell_index_then_id, the solver's)
 // Counters: particles, candidate pairs (particles in the cells walked) and neighbour pairs
 // per second, ms per 10^6 particles, and the mean density (1 for this lattice: a check).
 #include <benchmark/benchmark.h>
@@ -222,6 +228,20 @@ void BM_CellListBuild(benchmark::State& state) {
 }
 
 template <class P>
+void BM_CellListBuildById(benchmark::State& state) {
+  const P policy{};
+  if (unavailable<P>(state)) return;
+  Case<P> c(policy, Index(state.range(0)), Order(state.range(1)), SearchMethod::direct, int(state.range(2)));
+  c.cells.order_within_cells_by_id(c.body.particles());
+  for (auto _ : state) {
+    c.cells.build(policy);
+    fence(policy);
+  }
+  report(state, c.n, double(c.candidates), double(c.neighbors));
+  state.counters["in_cell_order"] = c.cells.report().in_cell_order;
+}
+
+template <class P>
 void BM_StoredListBuild(benchmark::State& state) {
   const P policy{};
   if (unavailable<P>(state) || too_large_for_host<P>(state)) return;
@@ -272,6 +292,31 @@ void BM_MortonSort(benchmark::State& state) {
   state.counters["particles/s"] = benchmark::Counter(double(n) * double(state.iterations()), benchmark::Counter::kIsRate);
 }
 
+// From a random order, as BM_MortonSort, by cell index or by (cell index, id).
+template <class P, SortOrder O>
+void BM_CellSort(benchmark::State& state) {
+  const P policy{};
+  if (unavailable<P>(state)) return;
+  const int side = side_for(Index(state.range(0)));
+  const Index n = Index(side) * side * side;
+  Body<T, D> body("Lattice", lattice_box(side), n);
+  body.particles().add_variable<Vec<T, D>>("Velocity", sortable_variable);
+  body.particles().add_variable<T>("Density", sortable_variable);
+  ParticleSorter<T, D> sorter(body.particles(), body.positions(), SearchGrid<T, D>::make(lattice_box(side), cutoff), 1,
+                              O);
+  for (auto _ : state) {
+    state.PauseTiming();
+    body.positions().assign(lattice(side, random_order, 1));
+    body.positions().read(policy);
+    fence(policy);
+    state.ResumeTiming();
+    sorter.sort(policy);
+    fence(policy);
+  }
+  state.counters["particles"] = double(n);
+  state.counters["key_bits"] = sorter.key_bits();
+}
+
 // order: 0 Morton, 1 random, 2 cell order, 3 and 4 Morton visited in cell order (4: with the
 // cell-ordered copy of the positions); split: cells of cutoff / split. Host policies:
 // 10^6 everywhere, 10^7 on par; the device: 10^6, 4 x 10^6 and 10^7.
@@ -293,10 +338,13 @@ void device_sizes(benchmark::internal::Benchmark* b) {
 
 #define UNISPH_NEIGHBOR_BENCHMARKS(P, SIZES)                                                 \
   BENCHMARK_TEMPLATE(BM_CellListBuild, P)->Apply(SIZES);                                     \
+  BENCHMARK_TEMPLATE(BM_CellListBuildById, P)->Apply(SIZES);                                 \
   BENCHMARK_TEMPLATE(BM_DensityPass, P, SearchMethod::direct)->Apply(SIZES);                 \
   BENCHMARK_TEMPLATE(BM_DensityPass, P, SearchMethod::stored)->Apply(SIZES);                 \
   BENCHMARK_TEMPLATE(BM_StoredListBuild, P)->Apply(SIZES);                                   \
-  BENCHMARK_TEMPLATE(BM_MortonSort, P)->Arg(1000000)->Arg(10000000)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
+  BENCHMARK_TEMPLATE(BM_MortonSort, P)->Arg(1000000)->Arg(10000000)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3); \
+  BENCHMARK_TEMPLATE(BM_CellSort, P, SortOrder::cell_index)->Arg(1000000)->Arg(10000000)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3); \
+  BENCHMARK_TEMPLATE(BM_CellSort, P, SortOrder::cell_index_then_id)->Arg(1000000)->Arg(10000000)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
 
 UNISPH_NEIGHBOR_BENCHMARKS(SequencedPolicy, host_sizes<SequencedPolicy>)
 UNISPH_NEIGHBOR_BENCHMARKS(ParallelPolicy, host_sizes<ParallelPolicy>)
