@@ -13,7 +13,7 @@ run() {  # name case args...
   local name=$1 case=$2; shift 2
   "$B/run" unisph run "$D/$case" --policy device --output "$W/$name" --quiet "$@" || echo "$name FAILED"
   awk -v n="$name" -F': ' '/^precision/{p=$2} /^dx/{dx=$2} /^fluid particles/{f=$2} /^wall particles/{w=$2}
-    /^acoustic steps/{s=$2} /^wall time \(time loop/{t=$2} /^fluid-particle/{r=$2}
+    /^acoustic steps/{s=$2} /^wall time \(time loop/{t=$2} /^fluid-particle acoustic steps per second:/{r=$2}
     END{printf "%-16s dx %-8s %-6s fluid %8d wall %8d acoustic %6d loop %s rate %s\n", n, dx, p, f, w, s, t, r}' "$W/$name/run.log"
 }
 run dambreak_2d dambreak_2d.toml;            cp "$W/dambreak_2d/observers.csv" "$OUT/dambreak_2d.csv"

@@ -18,7 +18,7 @@ run() {  # name case args...: observers to OUT/name.csv, the log's figures on on
   "$B/run" unisph run "$case" --policy device --output "$W/$name" --quiet "$@" || echo "$name FAILED: $(tail -1 "$W/$name/run.log")"
   cp "$W/$name/observers.csv" "$OUT/$name.csv"
   awk -v n="$name" -F': ' '/^precision/{p=$2} /^fluid particles/{f=$2} /^acoustic steps/{s=$2}
-    /^wall time \(time loop/{t=$2} /^fluid-particle/{r=$2}
+    /^wall time \(time loop/{t=$2} /^fluid-particle acoustic steps per second:/{r=$2}
     END{printf "%-26s %-6s fluid %8d acoustic %6d loop %s rate %s\n", n, p, f, s, t, r}' "$W/$name/run.log"
 }
 if [ "$PART" != 3d ]; then

@@ -312,6 +312,7 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
   const std::uint64_t fluid_particles = solver.fluid_count_all_ranks();
   Progress progress(options.quiet || !lead, solver.time(), first_acoustic_step, double(fluid_particles));
   const auto loop_start = std::chrono::steady_clock::now();
+  double snapshot_seconds = 0;  // writing snapshots within the time loop
   std::string failure;
   try {
     while (solver.time() < end_time * (1 - 1e-12)) {
@@ -320,7 +321,9 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
       record();
       record_loads();
       if (solver.time() >= until * (1 - 1e-12)) {
+        const auto written = std::chrono::steady_clock::now();
         write_snapshot();
+        snapshot_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - written).count();
         run.next_output += description.output_interval;
       }
       checkpoint_if_due();
@@ -341,6 +344,10 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
   const std::vector<std::uint64_t> rank_wall = world.allgather(std::uint64_t(solver.wall_count()));
   const std::vector<std::uint64_t> rank_migrated = world.allgather(solver.particles_migrated());
   const std::vector<std::uint64_t> rank_local = world.allgather(std::uint64_t(world.local_rank()));
+  const auto timings = solver.rank_timings();
+  const std::vector<double> rank_plan = world.allgather(timings.plan_seconds);
+  const std::vector<double> rank_exchange = world.allgather(timings.exchange_seconds);
+  const std::vector<std::uint64_t> rank_exchanges = world.allgather(timings.exchanges);
   std::uint64_t wall_particles = 0;
   for (std::uint64_t n : rank_wall) wall_particles += n;
   const std::uint64_t fluid_now = solver.fluid_count_all_ranks();
@@ -359,7 +366,11 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
       log << "\nrank " << r << ": " << (kind == PolicyKind::device ? "GPU " + std::to_string(rank_local[std::size_t(r)]) + " of its node"
                                                                   : "local rank " + std::to_string(rank_local[std::size_t(r)]))
           << ", " << rank_fluid[std::size_t(r)] << " fluid and " << rank_wall[std::size_t(r)]
-          << " wall particles owned at the end, " << rank_migrated[std::size_t(r)] << " particles sent to other ranks";
+          << " wall particles owned at the end, " << rank_migrated[std::size_t(r)] << " particles sent to other ranks; "
+          << rank_plan[std::size_t(r)] << " s building plans, " << rank_exchange[std::size_t(r)] << " s in "
+          << rank_exchanges[std::size_t(r)] << " exchanges ("
+          << 1e3 * (rank_plan[std::size_t(r)] + rank_exchange[std::size_t(r)]) / double(std::max<std::uint64_t>(1, solver.acoustic_steps()))
+          << " ms per acoustic step)";
   }
   for (const sph::WallBodyCount& b : solver.wall_bodies()) log << "\nwall body " << b.name << ": " << b.count << " particles";
   for (std::size_t k = 0; k < description.obstacles.size(); ++k)
@@ -397,9 +408,15 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
                     : std::string())
       << "\nwall time (time loop, output included): " << loop_seconds << " s"
       << "\nwall time (total): " << total_seconds << " s"
+      << "\nwall time writing snapshots in the time loop: " << snapshot_seconds << " s"
       << "\nfluid-particle acoustic steps per second: "
       << (loop_seconds > 0
               ? double(solver.acoustic_steps() - first_acoustic_step) * double(fluid_particles) / loop_seconds
+              : 0)
+      << "\nfluid-particle acoustic steps per second, snapshots excluded: "
+      << (loop_seconds > snapshot_seconds
+              ? double(solver.acoustic_steps() - first_acoustic_step) * double(fluid_particles) /
+                    (loop_seconds - snapshot_seconds)
               : 0)
       << "\n";
   if (!failure.empty()) log << "FAILED: " << failure << "\n";

@@ -109,6 +109,15 @@ class WeaklyCompressibleSolver {
   std::uint64_t rebalances() const;
   // Several ranks: the transport between them (host_staged, nccl, ...); empty on one rank.
   std::string transport() const;
+  // Several ranks: this rank's wall time in building the migration and halo plans and in
+  // exchanging particles and ghosts (packing, transport, unpacking), the device waited for at
+  // each end; zeros on one rank.
+  struct RankTimings {
+    double plan_seconds = 0;
+    double exchange_seconds = 0;
+    std::uint64_t exchanges = 0;
+  };
+  RankTimings rank_timings() const;
   Index wall_count() const;  // the tank's wall and the obstacles'
   // Wall particles of each obstacle of the case; the wall body's particle ids are the tank's
   // first, then each obstacle's in turn.

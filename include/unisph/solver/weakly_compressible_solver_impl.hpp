@@ -1266,6 +1266,12 @@ std::string WeaklyCompressibleSolver<T, D>::transport() const {
   return state_->share ? std::string(state_->share->transport().name()) : std::string();
 }
 template <class T, int D>
+typename WeaklyCompressibleSolver<T, D>::RankTimings WeaklyCompressibleSolver<T, D>::rank_timings() const {
+  if (!state_->share) return {};
+  const auto& t = state_->share->timings();
+  return {t.plan_seconds, t.exchange_seconds, t.exchanges};
+}
+template <class T, int D>
 std::uint64_t WeaklyCompressibleSolver<T, D>::rebalances() const {
   return state_->share ? state_->share->rebalances() : 0;
 }
