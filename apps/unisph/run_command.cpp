@@ -496,11 +496,6 @@ void add_run_command(CLI::App& app) {
     }
     const comm::Communicator world = comm::Communicator::world();
     if (world.size() > 1) {
-      if (!options.restart.empty())
-        world.check_all(false, "--restart: a run on several ranks cannot restart from a checkpoint yet; run it on one rank");
-      if (description.checkpoint_every > 0)
-        world.check_all(false, description.source + ": key 'time.checkpoint_every': checkpoints of a run on several "
-                               "ranks are not available yet; pass --checkpoint-every 0 or run on one rank");
       // One GPU per rank (its number on its node), before anything touches the GPU; the CPU
       // threads shared among the node's ranks unless --threads says otherwise.
       select_device(world.local_rank());

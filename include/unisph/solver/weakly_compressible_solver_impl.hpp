@@ -954,8 +954,10 @@ struct WeaklyCompressibleSolver<T, D>::State {
 
   static constexpr const char* precision_name = sizeof(T) == 4 ? "float" : "double";
 
+  // On several ranks every rank calls it: rank 0 gathers each body's owned particles (in rank
+  // order) and writes the one file, the same format as a run on one rank's, which a run on any
+  // number of ranks restores; a failure to write stops every rank with rank 0's line.
   void write_checkpoint(const std::filesystem::path& path, const std::string& run_state) {
-    if (share) throw Error("checkpoint " + path.string() + ": checkpoints of a run on several ranks are not available yet");
     io::CheckpointWriter out(solver_checkpoint_version);
     out.section("run");
     out.u32(D);
@@ -969,11 +971,70 @@ struct WeaklyCompressibleSolver<T, D>::State {
     out.u32(0);  // phase: between advection steps (solver_checkpoint.hpp)
     out.u64(removed_particles);
     out.f64(removed_mass);
+    if (share) {
+      const bool lead = share->comm().rank() == 0;
+      write_gathered_body(lead ? &out : nullptr, fluid_body);
+      write_gathered_body(lead ? &out : nullptr, wall_body);
+      out.section("observers");
+      out.string(run_state);
+      std::string error;
+      if (lead) {
+        try {
+          out.commit(path);
+        } catch (const std::exception& e) {
+          error = e.what();
+        }
+      }
+      share->comm().check_all(error.empty(), error);
+      return;
+    }
     write_body(out, fluid_body);
     write_body(out, wall_body);
     out.section("observers");
     out.string(run_state);
     out.commit(path);
+  }
+
+  // Several ranks: a body as write_body writes it, its owned particles gathered from every rank
+  // to rank 0 (`out` there, null elsewhere), in rank order. Collective.
+  void write_gathered_body(io::CheckpointWriter* out, Body<T, D>& body) {
+    const comm::Communicator& c = share->comm();
+    ParticleSet& set = body.particles();
+    const Index owned = set.owned_count();
+    const std::vector<std::uint64_t> counts = c.allgather(std::uint64_t(owned));
+    std::uint64_t total = 0;
+    for (std::uint64_t n : counts) total += n;
+    if (out) {
+      out->section("body");
+      out->string(body.name());
+      out->u64(total);
+      out->u64(set.first_id());
+      out->u64(set.variables().sortable_names().size());
+    }
+    std::vector<char> gathered;
+    set.variables().for_each([&](VariableRegistry::Entry& e) {
+      if (!e.flags.sortable) return;
+      VariableBase& v = *e.variable;
+      const std::size_t element = v.element_size();
+      std::vector<comm::Communicator::Segment> send(std::size_t(c.size()), {nullptr, 0});
+      std::vector<comm::Communicator::Segment> recv(std::size_t(c.size()), {nullptr, 0});
+      send[0] = {const_cast<void*>(v.prepare(MemorySpace::host, Access::read)), owned * element};
+      if (out) {
+        gathered.resize(total * element);
+        std::size_t at = 0;
+        for (int r = 0; r < c.size(); ++r) {
+          recv[std::size_t(r)] = {gathered.data() + at, counts[std::size_t(r)] * element};
+          at += counts[std::size_t(r)] * element;
+        }
+      }
+      c.exchange(send, recv);
+      if (out) {
+        out->string(v.name());
+        out->string(e.type_name);
+        out->u64(element);
+        out->block(gathered.data(), total * element);
+      }
+    });
   }
 
   static void write_body(io::CheckpointWriter& out, Body<T, D>& body) {
@@ -1032,25 +1093,33 @@ struct WeaklyCompressibleSolver<T, D>::State {
     }
     return staged;
   }
+  // The set takes the checkpoint's particles, as many as it holds: fewer than a fresh set's
+  // (fluid that left the domain), or more than this rank's share on several ranks (the set is
+  // made whole again; the caller keeps this rank's share). The set has no ghosts.
   static void commit(Body<T, D>& body, const StagedBody& staged) {
-    if (staged.owned != body.particles().owned_count()) {
-      // A fresh set holds every particle made at the start: keep as many as the checkpoint's.
-      if (staged.owned > body.particles().owned_count())
-        throw Error("checkpoint: body '" + body.name() + "' has fewer particles than the checkpoint (" +
-                    std::to_string(body.particles().owned_count()) + " < " + std::to_string(staged.owned) + ")");
-      body.particles().shrink_owned(seq, staged.owned);
-    }
+    ParticleSet& set = body.particles();
+    set.variables().resize(staged.owned);
     for (const auto& [variable, bytes] : staged.variables)
       if (!bytes.empty()) std::memcpy(variable->prepare(MemorySpace::host, Access::write), bytes.data(), bytes.size());
-    ParticleSet& set = body.particles();
-    View<const std::uint64_t> id = set.ids().read(MemorySpace::host);
-    View<std::uint32_t> index = set.index_of_id().write(MemorySpace::host);
-    for (Index k = 0; k < index.size(); ++k) index[k] = absent_particle_index;
-    for (Index i = 0; i < set.owned_count(); ++i) index[id[i] - set.first_id()] = std::uint32_t(i);
+    set.adopt_owned(seq, staged.owned);  // owned count, and index_of_id() from the restored ids
   }
 
+  // On several ranks every rank calls it and reads the whole file (a checkpoint of any number
+  // of ranks); a bad file stops every rank with one line; the domain is then cut anew from the
+  // restored positions and each rank keeps its share.
   std::string restore_checkpoint(const std::filesystem::path& path) {
-    if (share) throw Error("checkpoint " + path.string() + ": a run on several ranks cannot restore checkpoints yet");
+    if (!share) return restore_whole(path);
+    std::string run_state, error;
+    try {
+      run_state = restore_whole(path);
+    } catch (const std::exception& e) {
+      error = e.what();
+    }
+    share->comm().check_all(error.empty(), error);
+    return run_state;
+  }
+
+  std::string restore_whole(const std::filesystem::path& path) {
     io::CheckpointReader in(path, solver_checkpoint_version);
     in.section("run");
     const std::uint32_t dimension = in.u32();
@@ -1088,8 +1157,26 @@ struct WeaklyCompressibleSolver<T, D>::State {
     removed_particles = Index(saved_removed);
     removed_mass = saved_removed_mass;
     last_acoustic_dt = 0;
-    // As at the end of an advection step: neighbour structures from the restored order.
     visit_policy(policy, [&](auto p) {
+      if (share) {
+        // The restored sets are whole on every rank: cut the domain anew and keep each share,
+        // as at the start.
+        share->decompose(fluid_body);
+        share->keep_owned(p, fluid_body);
+        share->keep_owned(p, wall_body);
+        wall_sorter.sort(p);
+        share->gather(p, wall_body, wall_halo);
+        wall_cells.build(p);
+        fluid_sorter.sort(p);
+        share->gather(p, fluid_body, fluid_halo);
+        rebuild(p);
+        return;
+      }
+      // As at the end of an advection step: neighbour structures from the restored order.
+      // Walls that do not move are never sorted again: sorted here (by cell and id, so that a
+      // checkpoint of one rank keeps its order, and one of several ranks, written in rank
+      // order, gets back the in-cell-order search).
+      if (!move_walls) wall_sorter.sort(p);
       build_wall(p);
       rebuild(p);
     });
