@@ -311,6 +311,7 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
   const std::uint64_t first_acoustic_step = solver.acoustic_steps();
   const std::uint64_t fluid_particles = solver.fluid_count_all_ranks();
   Progress progress(options.quiet || !lead, solver.time(), first_acoustic_step, double(fluid_particles));
+  const auto timings_before_loop = solver.rank_timings();  // set-up and NCCL's start left out
   const auto loop_start = std::chrono::steady_clock::now();
   double snapshot_seconds = 0;  // writing snapshots within the time loop
   std::string failure;
@@ -344,10 +345,17 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
   const std::vector<std::uint64_t> rank_wall = world.allgather(std::uint64_t(solver.wall_count()));
   const std::vector<std::uint64_t> rank_migrated = world.allgather(solver.particles_migrated());
   const std::vector<std::uint64_t> rank_local = world.allgather(std::uint64_t(world.local_rank()));
-  const auto timings = solver.rank_timings();
-  const std::vector<double> rank_plan = world.allgather(timings.plan_seconds);
-  const std::vector<double> rank_exchange = world.allgather(timings.exchange_seconds);
-  const std::vector<std::uint64_t> rank_exchanges = world.allgather(timings.exchanges);
+  // Each rank's time in the time loop: its acoustic steps (ghost refreshes among them) and the
+  // ends of its advection steps (migration, halo with its plan, sort and lists).
+  const auto after = solver.rank_timings();
+  const auto& before = timings_before_loop;
+  const std::vector<double> rank_acoustic = world.allgather(after.acoustic_loop_seconds - before.acoustic_loop_seconds);
+  const std::vector<double> rank_refresh = world.allgather(after.refresh_seconds - before.refresh_seconds);
+  const std::vector<double> rank_step_end = world.allgather(after.step_end_seconds - before.step_end_seconds);
+  const std::vector<double> rank_migrate = world.allgather(after.migrate_seconds - before.migrate_seconds);
+  const std::vector<double> rank_gather = world.allgather(after.gather_seconds - before.gather_seconds);
+  const std::vector<double> rank_plan = world.allgather(after.plan_seconds - before.plan_seconds);
+  const std::vector<double> rank_exchange = world.allgather(after.exchange_seconds - before.exchange_seconds);
   std::uint64_t wall_particles = 0;
   for (std::uint64_t n : rank_wall) wall_particles += n;
   const std::uint64_t fluid_now = solver.fluid_count_all_ranks();
@@ -367,10 +375,13 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
                                                                   : "local rank " + std::to_string(rank_local[std::size_t(r)]))
           << ", " << rank_fluid[std::size_t(r)] << " fluid and " << rank_wall[std::size_t(r)]
           << " wall particles owned at the end, " << rank_migrated[std::size_t(r)] << " particles sent to other ranks; "
-          << rank_plan[std::size_t(r)] << " s building plans, " << rank_exchange[std::size_t(r)] << " s in "
-          << rank_exchanges[std::size_t(r)] << " exchanges ("
-          << 1e3 * (rank_plan[std::size_t(r)] + rank_exchange[std::size_t(r)]) / double(std::max<std::uint64_t>(1, solver.acoustic_steps()))
-          << " ms per acoustic step)";
+          << "time loop: acoustic steps " << rank_acoustic[std::size_t(r)] << " s (ghost refreshes "
+          << rank_refresh[std::size_t(r)] << " s), advection-step ends " << rank_step_end[std::size_t(r)]
+          << " s (migration " << rank_migrate[std::size_t(r)] << " s, halo " << rank_gather[std::size_t(r)]
+          << " s, plans " << rank_plan[std::size_t(r)] << " s); exchanging and plans "
+          << 1e3 * (rank_plan[std::size_t(r)] + rank_exchange[std::size_t(r)]) /
+                 double(std::max<std::uint64_t>(1, solver.acoustic_steps() - first_acoustic_step))
+          << " ms per acoustic step";
   }
   for (const sph::WallBodyCount& b : solver.wall_bodies()) log << "\nwall body " << b.name << ": " << b.count << " particles";
   for (std::size_t k = 0; k < description.obstacles.size(); ++k)

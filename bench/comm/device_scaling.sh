@@ -10,8 +10,9 @@
 #            GPU: the flow of each slice is that of one GPU's case), NCCL
 #
 # For each run one line (and OUT/scaling.csv): GPUs, transport, fluid particles, acoustic steps,
-# the time loop without snapshots, fluid-particle acoustic steps per second, and per rank the
-# time building plans and exchanging, per acoustic step (run.log's lines).
+# the time loop and its snapshots, fluid-particle acoustic steps per second without them, and
+# the slowest rank's time in acoustic steps (ghost refreshes among them), in the ends of advection
+# steps, and exchanging with plans per acoustic step (run.log's rank lines, time loop only).
 set -euo pipefail
 OUT=${1:?usage: BUNDLE=dir device_scaling.sh OUT [GPUS...]}
 shift
@@ -20,32 +21,33 @@ GPUS=("$@")
 B=${BUNDLE:?set BUNDLE to the device bundle}
 END=${END:-0.05}
 DX=${DX:-0.00625}
+LIMIT=${LIMIT:-150}  # seconds per run (a hung run is stopped and named FAILED)
 HERE=$(cd "$(dirname "$0")/../.." && pwd)
 W=$(mktemp -d)
 mkdir -p "$OUT"
 export NCCL_NVLS_ENABLE=0
-echo "gpus,mode,transport,fluid,acoustic_steps,loop_s,snapshot_s,steps_per_s,plan_ms_per_step_max,exchange_ms_per_step_max" > "$OUT/scaling.csv"
+echo "gpus,mode,transport,fluid,acoustic_steps,loop_s,snapshot_s,steps_per_s,acoustic_s_max,refresh_s_max,step_end_s_max,exchange_plan_ms_per_step_max" > "$OUT/scaling.csv"
 
 run() {  # name gpus transport case
   local name=$1 n=$2 transport=$3 case=$4
   local dir="$W/$name"
   local cmd=("$B/run" unisph run "$case" --policy device --precision float --dx "$DX" --end-time "$END" --output "$dir" --quiet)
   if [ "$n" -gt 1 ]; then
-    UNISPH_TRANSPORT=$transport mpirun --allow-run-as-root --bind-to none -x NCCL_NVLS_ENABLE -x UNISPH_TRANSPORT \
+    UNISPH_TRANSPORT=$transport timeout "$LIMIT" mpirun --allow-run-as-root --bind-to none -x NCCL_NVLS_ENABLE -x UNISPH_TRANSPORT \
       -np "$n" "${cmd[@]}" > "$dir.out" 2>&1 || echo "$name FAILED: $(tail -1 "$dir.out")"
   else
-    "${cmd[@]}" > "$dir.out" 2>&1 || echo "$name FAILED: $(tail -1 "$dir.out")"
+    timeout "$LIMIT" "${cmd[@]}" > "$dir.out" 2>&1 || echo "$name FAILED: $(tail -1 "$dir.out")"
   fi
   cp "$dir/run.log" "$OUT/$name.log" 2>/dev/null || { echo "$name: no run.log"; cat "$dir.out"; return; }
   awk -v name="$name" -v n="$n" -v t="$transport" -F': ' '
+    function field(line, label,   at) { at = index(line, label); return at ? substr(line, at + length(label)) + 0 : 0 }
     /^fluid particles/{f=$2} /^acoustic steps/{s=$2} /^wall time \(time loop/{l=$2+0}
-    /^wall time writing snapshots/{w=$2+0} /^fluid-particle acoustic steps per second, snapshots excluded/{r=$2}
-    /^rank [0-9]+:/{ if (match($0, /; [0-9.e+-]+ s building plans, [0-9.e+-]+ s in/)) {
-        split(substr($0, RSTART + 2, RLENGTH), a, " "); p = a[1]; x = a[5];
-        if (p > pm) pm = p; if (x > xm) xm = x } }
-    END{ if (s > 0) { pm = 1e3 * pm / s; xm = 1e3 * xm / s }
-         printf "%-12s %d GPU %-11s fluid %9d acoustic %5d loop %7.2f s (snapshots %5.2f s) %.3e steps/s  plans %.2f ms, exchange %.2f ms per step (slowest rank)\n", name, n, t, f, s, l, w, r, pm, xm
-         printf "%d,%s,%s,%d,%d,%.3f,%.3f,%.4e,%.3f,%.3f\n", n, (name ~ /^weak/ ? "weak" : "strong"), t, f, s, l, w, r, pm, xm >> OUT_CSV }' \
+    /^wall time writing snapshots/{w=$2+0} /^fluid-particle acoustic steps per second, snapshots excluded/{rate=$2}
+    /^rank [0-9]+:/{ a = field($0, "acoustic steps "); e = field($0, "advection-step ends ");
+        x = field($0, "exchanging and plans "); r = field($0, "ghost refreshes ");
+        if (a > am) am = a; if (e > em) em = e; if (x > xm) xm = x; if (r > rm) rm = r }
+    END{ printf "%-13s %d GPU %-11s fluid %9d acoustic %4d loop %6.2f s (snapshots %5.2f s) %.3e steps/s | slowest rank: acoustic %.3f s (refreshes %.3f s), step ends %.3f s, exchange+plans %.2f ms/step\n", name, n, t, f, s, l, w, rate, am, rm, em, xm
+         printf "%d,%s,%s,%d,%d,%.3f,%.3f,%.4e,%.3f,%.3f,%.3f,%.3f\n", n, (name ~ /^weak/ ? "weak" : "strong"), t, f, s, l, w, rate, am, rm, em, xm >> OUT_CSV }' \
     OUT_CSV="$OUT/scaling.csv" "$dir/run.log"
 }
 

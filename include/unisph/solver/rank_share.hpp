@@ -79,9 +79,21 @@ class RankShare {
   struct Timings {
     double plan_seconds = 0;      // migration and halo plans
     double exchange_seconds = 0;  // migrate, gather and refresh exchanges (packing included)
+    double migrate_seconds = 0;   // of which: migrations (with adopt_owned)
+    double gather_seconds = 0;    //   halos' first fills (every sortable variable)
+    double refresh_seconds = 0;   //   refreshes of named variables
     std::uint64_t exchanges = 0;
   };
   const Timings& timings() const { return timings_; }
+  // The clock after the device's queued work (so that a phase's time includes its kernels).
+  template <ExecutionPolicy P>
+  static std::chrono::steady_clock::time_point now(P policy) {
+    fence(policy);
+    return std::chrono::steady_clock::now();
+  }
+  static double seconds(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
+    return std::chrono::duration<double>(b - a).count();
+  }
 
   // Collective: cuts the domain anew with the fluid's owned particles as weights.
   void decompose(Body<T, D>& fluid) {
@@ -141,6 +153,7 @@ class RankShare {
     const auto t2 = now(policy);
     timings_.plan_seconds += seconds(t0, t1);
     timings_.exchange_seconds += seconds(t1, t2);
+    timings_.migrate_seconds += seconds(t1, t2);
     ++timings_.exchanges;
     migrated_ += plan.export_count();
   }
@@ -161,6 +174,7 @@ class RankShare {
     const auto t2 = now(policy);
     timings_.plan_seconds += seconds(t0, t1);
     timings_.exchange_seconds += seconds(t1, t2);
+    timings_.gather_seconds += seconds(t1, t2);
     ++timings_.exchanges;
   }
   // Collective: the named variables of the ghosts again, from their owners' current values.
@@ -168,7 +182,9 @@ class RankShare {
   void refresh(P policy, Body<T, D>& body, Halo& halo, std::span<const std::string> names) {
     const auto t0 = now(policy);
     halo.refresh(policy, *transport_, body.particles(), body.positions().name(), names);
-    timings_.exchange_seconds += seconds(t0, now(policy));
+    const double t = seconds(t0, now(policy));
+    timings_.exchange_seconds += t;
+    timings_.refresh_seconds += t;
     ++timings_.exchanges;
   }
 
@@ -176,15 +192,6 @@ class RankShare {
   std::uint64_t migrated() const { return migrated_; }
 
  private:
-  // The clock after the device's queued work (so that a phase's time includes its kernels).
-  template <ExecutionPolicy P>
-  static std::chrono::steady_clock::time_point now(P policy) {
-    fence(policy);
-    return std::chrono::steady_clock::now();
-  }
-  static double seconds(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
-    return std::chrono::duration<double>(b - a).count();
-  }
   // The owned positions in the policy's memory.
   template <ExecutionPolicy P>
   static View<const Vec<T, D>> owned_positions(P policy, Body<T, D>& body) {

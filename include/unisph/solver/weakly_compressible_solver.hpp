@@ -114,8 +114,13 @@ class WeaklyCompressibleSolver {
   // each end; zeros on one rank.
   struct RankTimings {
     double plan_seconds = 0;
-    double exchange_seconds = 0;
+    double exchange_seconds = 0;  // migrate + gather + refresh
+    double migrate_seconds = 0;
+    double gather_seconds = 0;
+    double refresh_seconds = 0;
     std::uint64_t exchanges = 0;
+    double acoustic_loop_seconds = 0;  // advance()'s acoustic steps, ghost refreshes included
+    double step_end_seconds = 0;       // the ends of its advection steps: migration, sort, halo, lists
   };
   RankTimings rank_timings() const;
   Index wall_count() const;  // the tank's wall and the obstacles'

@@ -871,6 +871,8 @@ struct WeaklyCompressibleSolver<T, D>::State {
         diagnose(s.str());
       };
       double relaxed = 0;
+      // Several ranks: where the time goes (the device waited for at each mark).
+      const auto loop_start = share ? share->now(p) : std::chrono::steady_clock::time_point{};
       // The last step is shortened to end at Dt, or kept whole where the case asks for it
       // (time.last_acoustic_step); never past `until`, and never longer than a Dt that the
       // viscous limit made shorter than one acoustic step.
@@ -924,6 +926,8 @@ struct WeaklyCompressibleSolver<T, D>::State {
         dt = next;
         last_acoustic_dt = dt;
       }
+      const auto loop_end = share ? share->now(p) : std::chrono::steady_clock::time_point{};
+      if (share) acoustic_loop_seconds += share->seconds(loop_start, loop_end);
       time += relaxed;
       ++advection_steps;
       finish_loads();
@@ -949,6 +953,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
       if (sort_now) fluid_sorter.sort(p);
       if (share) share->gather(p, fluid_body, fluid_halo);
       rebuild(p);
+      if (share) step_end_seconds += share->seconds(loop_end, share->now(p));
     });
   }
 
@@ -1310,6 +1315,10 @@ struct WeaklyCompressibleSolver<T, D>::State {
   std::unique_ptr<RankShare<T, D>> share;
   std::unique_ptr<typename RankShare<T, D>::Halo> fluid_halo;
   std::unique_ptr<typename RankShare<T, D>::Halo> wall_halo;
+  // Several ranks: wall time in the acoustic steps of advance() (ghost refreshes included) and
+  // in the ends of its advection steps (migration, sort, halo, neighbour structures).
+  double acoustic_loop_seconds = 0;
+  double step_end_seconds = 0;
   // What the ghosts' refreshes send: before each relaxation, and after the density summation.
   const std::vector<std::string> ghost_record_names{fluid.position.name(), fluid.neighbor_position_volume.name(),
                                                     fluid.neighbor_velocity_pressure.name()};
@@ -1356,7 +1365,16 @@ template <class T, int D>
 typename WeaklyCompressibleSolver<T, D>::RankTimings WeaklyCompressibleSolver<T, D>::rank_timings() const {
   if (!state_->share) return {};
   const auto& t = state_->share->timings();
-  return {t.plan_seconds, t.exchange_seconds, t.exchanges};
+  RankTimings r;
+  r.plan_seconds = t.plan_seconds;
+  r.exchange_seconds = t.exchange_seconds;
+  r.migrate_seconds = t.migrate_seconds;
+  r.gather_seconds = t.gather_seconds;
+  r.refresh_seconds = t.refresh_seconds;
+  r.exchanges = t.exchanges;
+  r.acoustic_loop_seconds = state_->acoustic_loop_seconds;
+  r.step_end_seconds = state_->step_end_seconds;
+  return r;
 }
 template <class T, int D>
 std::uint64_t WeaklyCompressibleSolver<T, D>::rebalances() const {
