@@ -103,6 +103,11 @@ struct CellListView {
   // The positions at the build in the order of `particles` (empty unless asked for, and not
   // written when the particles are in cell order: see the header comment).
   View<const CellPoint<T, D>> points;
+  // Ordered by id (empty otherwise): for each place k, the end of the run of places from k on
+  // whose particles are consecutive indices (particles[k + m] == particles[k] + m). A loop over a
+  // row walks each run without the index list: the owned particles of a run on several ranks,
+  // sorted by (cell, id), are one run per row wherever no ghost lies between them.
+  View<const std::uint32_t> run_end;
 
   UNISPH_HOST_DEVICE Index flagged_bucket() const { return offsets.size() - 2; }
   // True when the particles of cell c are exactly the indices offsets[c] .. offsets[c + 1]
@@ -194,6 +199,34 @@ struct IdKeys {
     keys[i] = (std::uint64_t(bucket_of[i]) << id_bits) | (id < id_count ? id : id_count);
     particles[i] = static_cast<std::uint32_t>(i);
   }
+};
+
+// Ordered by id: the runs of consecutive particle indices in `particles` (see
+// CellListView::run_end). starts[k] = 1 where a run begins at place k.
+struct RunStarts {
+  View<const std::uint32_t> particles;
+  View<std::uint32_t> starts;
+  UNISPH_HOST_DEVICE void operator()(Index k) const {
+    starts[k] = k == 0 || particles[k] != particles[k - 1] + 1 ? 1u : 0u;
+  }
+};
+// first[r]: the place where run r begins (first[runs] = the place count); before[k]: the
+// exclusive scan of starts (the number of runs that begin before place k).
+struct RunBegins {
+  View<const std::uint32_t> starts;
+  View<const std::uint32_t> before;
+  View<std::uint32_t> first;
+  UNISPH_HOST_DEVICE void operator()(Index k) const {
+    if (starts[k]) first[before[k]] = static_cast<std::uint32_t>(k);
+    if (k + 1 == starts.size()) first[before[k] + starts[k]] = static_cast<std::uint32_t>(k + 1);
+  }
+};
+struct RunEnds {
+  View<const std::uint32_t> starts;
+  View<const std::uint32_t> before;
+  View<const std::uint32_t> first;
+  View<std::uint32_t> run_end;
+  UNISPH_HOST_DEVICE void operator()(Index k) const { run_end[k] = first[before[k] + starts[k]]; }
 };
 
 // Ordered by id: sets counters[3] when some key is below its predecessor's. The stable sort of
@@ -308,6 +341,7 @@ class CellLinkedList {
                                                         offsets, counters});
     if (by_id) {
       sort_by_id(policy, n, counters);
+      find_runs(policy, n, counters);
     } else if (n > 1) {
       particle_for(policy, n - 1, cell_list_detail::CheckCellOrder{bucket_of_.read(policy), counters});
     }
@@ -341,16 +375,43 @@ class CellLinkedList {
   CellListView<T, D> view(P) {
     return {grid_, outside_ == OutsideParticles::flag, positions_.read(P::space), offsets_.read(P::space),
             particles_.read(P::space), counters_.read(P::space),
-            store_points_ ? points_.read(P::space) : View<const CellPoint<T, D>>{}};
+            store_points_ ? points_.read(P::space) : View<const CellPoint<T, D>>{},
+            run_end_.size() ? run_end_.read(P::space) : View<const std::uint32_t>{}};
   }
   // The same through a kernel shell's context, which records the variables it views.
   CellListView<T, D> view(KernelContext& context) {
     return {grid_, outside_ == OutsideParticles::flag, context.read(positions_), context.read(offsets_),
             context.read(particles_), context.read(counters_),
-            store_points_ ? context.read(points_) : View<const CellPoint<T, D>>{}};
+            store_points_ ? context.read(points_) : View<const CellPoint<T, D>>{},
+            run_end_.size() ? context.read(run_end_) : View<const std::uint32_t>{}};
   }
 
  private:
+  // Ordered by id: run_end for every place (see CellListView::run_end). On the host, a list in
+  // cell order (the identity: one run) keeps none; the device computes it anyway rather than
+  // wait for the flag. Three passes and a scan of the places.
+  template <ExecutionPolicy P>
+  void find_runs(P policy, Index n, View<unsigned long long> counters) {
+    if constexpr (P::space == MemorySpace::host) {
+      if (n < 2 || counters[3] == 0) {
+        run_end_.resize(0);
+        return;
+      }
+    }
+    run_end_.resize(n);
+    run_starts_.resize(n);
+    run_before_.resize(n + 1);
+    View<const std::uint32_t> particles = particles_.read(policy);
+    View<std::uint32_t> starts = run_starts_.write(policy);
+    particle_for(policy, n, cell_list_detail::RunStarts{particles, starts});
+    View<std::uint32_t> before = run_before_.write(policy);
+    exclusive_scan(policy, View<const std::uint32_t>(starts), before);
+    run_first_.resize(n + 1);  // at most n runs, and the end
+    View<std::uint32_t> first = run_first_.write(policy);
+    particle_for(policy, n, cell_list_detail::RunBegins{starts, before, first});
+    particle_for(policy, n, cell_list_detail::RunEnds{starts, before, first, run_end_.write(policy)});
+  }
+
   // `particles` as the stable sort of the (bucket, id) keys (see the header comment);
   // counters[3] set where the keys do not ascend with the index.
   template <ExecutionPolicy P>
@@ -391,6 +452,10 @@ class CellLinkedList {
   DiscreteVariable<unsigned long long> counters_;
   DiscreteVariable<CellPoint<T, D>> points_;
   DiscreteVariable<std::uint64_t> keys_;  // ordered by id: the sort keys
+  DiscreteVariable<std::uint32_t> run_end_{"CellList.RunEnd"};  // ordered by id (find_runs)
+  DiscreteVariable<std::uint32_t> run_starts_{"CellList.RunStarts"};
+  DiscreteVariable<std::uint32_t> run_before_{"CellList.RunsBefore"};
+  DiscreteVariable<std::uint32_t> run_first_{"CellList.RunFirst"};
   ParticleSet* id_set_ = nullptr;         // ordered by the ids of this set; null: by the atomics
   bool store_points_ = false;
   Index built_count_ = 0;

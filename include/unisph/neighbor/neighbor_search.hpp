@@ -166,6 +166,17 @@ struct NeighborSearch {
         // The row's particles are the indices [begin, end): contiguous reads, no indirection.
         for (std::uint32_t j = begin; j < end; ++j)
           if (!(inner && j == i)) g(Index(j), xi, targets.positions[j]);
+      } else if (!targets.run_end.empty()) {
+        // Ordered by id: each run of consecutive indices is read as such, in the list's order
+        // (the same order as the index list's, so the same sums).
+        for (std::uint32_t k = begin; k < end;) {
+          const std::uint32_t stop = targets.run_end[k] < end ? targets.run_end[k] : end;
+          const std::uint32_t first = targets.particles[k];
+          const std::uint32_t last = first + (stop - k);
+          for (std::uint32_t j = first; j < last; ++j)
+            if (!(inner && j == i)) g(Index(j), xi, targets.positions[j]);
+          k = stop;
+        }
       } else {
         for (std::uint32_t k = begin; k < end; ++k) {
           const Index j = targets.particles[k];
