@@ -55,23 +55,25 @@ struct NeighborRecordWriter {
 // f(j, record_j, pair, w) for every fluid neighbour j of i, with record_j = records[j] and
 // w = weight(pair): the same j, order, pair geometry and w as
 // search.for_each_weighted_neighbor(i, weight, ...). A direct search over particles in cell
-// order (the device default) takes x_j from the record instead of the target positions (the
-// same bits while the records are current), so that a candidate costs one aligned load; other
-// searches read the record of each neighbour they find. The rows of cells are
+// order (the device default), or over a list ordered by id walked by its runs (several ranks),
+// takes x_j from the record instead of the target positions (the same bits while the records
+// are current), so that a candidate costs one aligned load; other searches read the record of
+// each neighbour they find. The rows of cells are
 // NeighborSearch::for_each_candidate_range's, walked as NeighborSearch::for_each_direct_candidate
 // walks them.
 template <class T, int D, class W, class F>
 UNISPH_NEIGHBOR_LOOP UNISPH_HOST_DEVICE void for_each_neighbor_record(const NeighborSearch<T, D>& search,
                                                                       View<const PositionVolume<T, D>> records, Index i,
                                                                       const W& weight, F&& f) {
-  if (search.uses_stored_lists() || !search.targets.in_cell_order()) {
+  const bool cell_order = search.targets.in_cell_order();
+  if (search.uses_stored_lists() || (!cell_order && search.targets.run_end.empty())) {
     search.for_each_weighted_neighbor(
         i, weight, [&](Index j, const NeighborPair<T, D>& pair, T w) { f(j, records[j], pair, w); });
     return;
   }
   const Vec<T, D> xi = search.sources[i];
-  search.for_each_candidate_range(xi, [&](std::uint32_t begin, std::uint32_t end) {
-    for (std::uint32_t j = begin; j < end; ++j) {
+  const auto candidates = [&](std::uint32_t first, std::uint32_t last) {
+    for (std::uint32_t j = first; j < last; ++j) {
       if (search.inner && j == i) continue;
       const PositionVolume<T, D> record = records[j];
       NeighborPair<T, D> pair;
@@ -79,6 +81,20 @@ UNISPH_NEIGHBOR_LOOP UNISPH_HOST_DEVICE void for_each_neighbor_record(const Neig
         pair.complete_approximately();  // the device's rsqrt: 13 % of the 3D step (docs/sph.md)
         f(Index(j), record, static_cast<const NeighborPair<T, D>&>(pair), weight(pair));
       }
+    }
+  };
+  search.for_each_candidate_range(xi, [&](std::uint32_t begin, std::uint32_t end) {
+    if (cell_order) {
+      candidates(begin, end);
+      return;
+    }
+    // A list ordered by id with ghosts (several ranks): its runs of consecutive indices, in the
+    // list's order, the same arithmetic as in cell order (CellListView::run_end).
+    for (std::uint32_t k = begin; k < end;) {
+      const std::uint32_t stop = search.targets.run_end[k] < end ? search.targets.run_end[k] : end;
+      const std::uint32_t first = search.targets.particles[k];
+      candidates(first, first + (stop - k));
+      k = stop;
     }
   });
 }
