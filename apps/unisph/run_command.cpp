@@ -356,6 +356,8 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
   const std::vector<double> rank_gather = world.allgather(after.gather_seconds - before.gather_seconds);
   const std::vector<double> rank_plan = world.allgather(after.plan_seconds - before.plan_seconds);
   const std::vector<double> rank_exchange = world.allgather(after.exchange_seconds - before.exchange_seconds);
+  const auto balance = solver.rank_balance();
+  const std::vector<double> rank_ghosts = world.allgather(balance.mean_fluid_ghosts);
   std::uint64_t wall_particles = 0;
   for (std::uint64_t n : rank_wall) wall_particles += n;
   const std::uint64_t fluid_now = solver.fluid_count_all_ranks();
@@ -368,13 +370,17 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
       << "\ndx: " << description.dx << "\nsmoothing length h: " << solver.smoothing_length()
       << "\nfluid particles: " << fluid_now << "\nwall particles: " << wall_particles;
   if (ranks) {
-    log << "\nranks: " << world.size() << " (domain cut along the Morton curve; cut again " << solver.rebalances()
-        << " times; transport " << solver.transport() << ")";
+    log << "\nranks: " << world.size() << " (domain cut "
+        << (balance.method == "bisection" ? "by recursive bisection" : "along the Morton curve") << "; cut again "
+        << solver.rebalances() << " times; transport " << solver.transport() << ")"
+        << "\nfluid balance (max / mean of the ranks' fluid particles at each advection step): mean "
+        << balance.mean_imbalance << ", worst " << balance.worst_imbalance;
     for (int r = 0; r < world.size(); ++r)
       log << "\nrank " << r << ": " << (kind == PolicyKind::device ? "GPU " + std::to_string(rank_local[std::size_t(r)]) + " of its node"
                                                                   : "local rank " + std::to_string(rank_local[std::size_t(r)]))
           << ", " << rank_fluid[std::size_t(r)] << " fluid and " << rank_wall[std::size_t(r)]
-          << " wall particles owned at the end, " << rank_migrated[std::size_t(r)] << " particles sent to other ranks; "
+          << " wall particles owned at the end, " << rank_migrated[std::size_t(r)] << " particles sent to other ranks, "
+          << rank_ghosts[std::size_t(r)] << " fluid ghosts on average; "
           << "time loop: acoustic steps " << rank_acoustic[std::size_t(r)] << " s (ghost refreshes "
           << rank_refresh[std::size_t(r)] << " s), advection-step ends " << rank_step_end[std::size_t(r)]
           << " s (migration " << rank_migrate[std::size_t(r)] << " s, halo " << rank_gather[std::size_t(r)]

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstdlib>
 #include <cstdint>
 #include <cstdio>
 #include <vector>
@@ -150,6 +151,12 @@ UNISPH_POLICY_TEST_SUITE(SolverRanks);
 
 TYPED_TEST(SolverRanks, DamBreak2DAgreesWithOneRank) { agrees_with_one_rank<2>(kind_of<TypeParam>(), 200); }
 TYPED_TEST(SolverRanks, DamBreak3DAgreesWithOneRank) { agrees_with_one_rank<3>(kind_of<TypeParam>(), 200); }
+// Cut by recursive bisection (UNISPH_DECOMPOSITION) instead of the Morton curve: the same bits.
+TYPED_TEST(SolverRanks, DamBreak2DBisectionAgreesWithOneRank) {
+  setenv("UNISPH_DECOMPOSITION", "bisection", 1);
+  agrees_with_one_rank<2>(kind_of<TypeParam>(), 200);
+  unsetenv("UNISPH_DECOMPOSITION");
+}
 TYPED_TEST(SolverRanks, DamBreak2DDirectSearchAgreesWithOneRank) {
   agrees_with_one_rank<2>(kind_of<TypeParam>(), 200, "direct");
 }

@@ -3,7 +3,8 @@
 // "The solver on several ranks").
 //
 // The domain is covered by cells at least `width` wide (comm::CellGrid), cut among the ranks
-// along the Morton curve with the fluid's particles as weights (comm::decompose_morton). Each
+// along the Morton curve with the fluid's particles as weights (comm::decompose_morton), or by
+// recursive coordinate bisection where UNISPH_DECOMPOSITION=bisection (decompose_bisection). Each
 // rank owns the fluid and wall particles in its cells and holds ghost copies of the particles
 // of other ranks within `width` of its cells (comm::Halo). `width` is the kernel's cutoff plus
 // a skin: the halo is built once per advection step, and the acoustic steps move the particles
@@ -46,7 +47,8 @@ class RankShare {
         transport_(comm::make_transport(transport_kind(space), comm)),
         width_(cutoff + skin),
         skin_(skin),
-        rebalance_fraction_(rebalance_fraction) {
+        rebalance_fraction_(rebalance_fraction),
+        method_(decomposition_method()) {
     Box<Real, D> box;
     for (int a = 0; a < D; ++a) {
       box.lower[a] = Real(domain.lower[a]);
@@ -64,6 +66,26 @@ class RankShare {
   static comm::TransportKind transport_kind(MemorySpace space) {
     if (const char* name = std::getenv("UNISPH_TRANSPORT"); name && *name) return comm::parse_transport(name);
     return comm::default_transport(space);
+  }
+
+  // UNISPH_DECOMPOSITION (morton, bisection) where set, else morton.
+  static comm::DecompositionMethod decomposition_method() {
+    const char* name = std::getenv("UNISPH_DECOMPOSITION");
+    if (!name || !*name || std::string(name) == "morton") return comm::DecompositionMethod::morton;
+    if (std::string(name) == "bisection") return comm::DecompositionMethod::bisection;
+    throw Error("UNISPH_DECOMPOSITION='" + std::string(name) + "': use morton or bisection");
+  }
+  comm::DecompositionMethod method() const { return method_; }
+
+  // How well the cuts balanced the fluid: max / mean of the owned counts at each check
+  // (unbalanced()), their mean and the worst.
+  struct Balance {
+    double mean_imbalance = 0;
+    double worst_imbalance = 0;
+    std::uint64_t checks = 0;
+  };
+  Balance balance() const {
+    return {checks_ ? imbalance_sum_ / double(checks_) : 0.0, imbalance_worst_, checks_};
   }
 
   const comm::Communicator& comm() const { return comm_; }
@@ -98,7 +120,9 @@ class RankShare {
   // Collective: cuts the domain anew with the fluid's owned particles as weights.
   void decompose(Body<T, D>& fluid) {
     const std::vector<PlanPosition> x = plan_positions(fluid);
-    decomposition_ = comm::decompose_morton<D>(comm_, grid_, std::span<const PlanPosition>(x));
+    decomposition_ = method_ == comm::DecompositionMethod::morton
+                         ? comm::decompose_morton<D>(comm_, grid_, std::span<const PlanPosition>(x))
+                         : comm::decompose_bisection<D>(comm_, grid_, std::span<const PlanPosition>(x));
     ++decompositions_;
   }
   // Collective: true when the owned fluid counts have drifted apart by more than the rebalance
@@ -107,6 +131,9 @@ class RankShare {
   // within the fraction; without the second condition such a run would cut again every step).
   bool unbalanced(Index owned) {
     const double now = comm::imbalance(comm_, std::uint64_t(owned));
+    imbalance_sum_ += now;
+    imbalance_worst_ = std::max(imbalance_worst_, now);
+    ++checks_;
     if (measure_cut_) {
       reached_ = now;
       measure_cut_ = false;
@@ -213,6 +240,9 @@ class RankShare {
   T width_;
   T skin_;
   double rebalance_fraction_;
+  comm::DecompositionMethod method_;
+  double imbalance_sum_ = 0, imbalance_worst_ = 0;
+  std::uint64_t checks_ = 0;
   comm::CellGrid<D> grid_{};
   comm::Decomposition<D> decomposition_;
   comm::VariableExchange exchange_;

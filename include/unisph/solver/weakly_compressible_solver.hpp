@@ -123,6 +123,16 @@ class WeaklyCompressibleSolver {
     double step_end_seconds = 0;       // the ends of its advection steps: migration, sort, halo, lists
   };
   RankTimings rank_timings() const;
+  // Several ranks: how the domain is cut (morton or bisection: UNISPH_DECOMPOSITION) and how well
+  // it balanced the fluid over the run (max / mean of the owned fluid counts at each advection
+  // step, collective), and this rank's fluid ghosts per advection step on average.
+  struct RankBalance {
+    std::string method;
+    double mean_imbalance = 0;
+    double worst_imbalance = 0;
+    double mean_fluid_ghosts = 0;
+  };
+  RankBalance rank_balance() const;
   Index wall_count() const;  // the tank's wall and the obstacles'
   // Wall particles of each obstacle of the case; the wall body's particle ids are the tank's
   // first, then each obstacle's in turn.

@@ -951,7 +951,11 @@ struct WeaklyCompressibleSolver<T, D>::State {
       if (fluid_images) fluid_images->wrap(p);  // before the sort: its cells are the box's
       if (share) share->migrate(p, fluid_body);  // before the sort: the arrivals are sorted with the rest
       if (sort_now) fluid_sorter.sort(p);
-      if (share) share->gather(p, fluid_body, fluid_halo);
+      if (share) {
+        share->gather(p, fluid_body, fluid_halo);
+        fluid_ghost_sum += double(fluid_halo->ghost_count());
+        ++fluid_ghost_samples;
+      }
       rebuild(p);
       if (share) step_end_seconds += share->seconds(loop_end, share->now(p));
     });
@@ -1319,6 +1323,8 @@ struct WeaklyCompressibleSolver<T, D>::State {
   // in the ends of its advection steps (migration, sort, halo, neighbour structures).
   double acoustic_loop_seconds = 0;
   double step_end_seconds = 0;
+  double fluid_ghost_sum = 0;  // fluid ghosts after each advection step's halo, summed
+  std::uint64_t fluid_ghost_samples = 0;
   // What the ghosts' refreshes send: before each relaxation, and after the density summation.
   const std::vector<std::string> ghost_record_names{fluid.position.name(), fluid.neighbor_position_volume.name(),
                                                     fluid.neighbor_velocity_pressure.name()};
@@ -1374,6 +1380,18 @@ typename WeaklyCompressibleSolver<T, D>::RankTimings WeaklyCompressibleSolver<T,
   r.exchanges = t.exchanges;
   r.acoustic_loop_seconds = state_->acoustic_loop_seconds;
   r.step_end_seconds = state_->step_end_seconds;
+  return r;
+}
+template <class T, int D>
+typename WeaklyCompressibleSolver<T, D>::RankBalance WeaklyCompressibleSolver<T, D>::rank_balance() const {
+  if (!state_->share) return {};
+  const auto b = state_->share->balance();
+  RankBalance r;
+  r.method = comm::to_string(state_->share->method());
+  r.mean_imbalance = b.mean_imbalance;
+  r.worst_imbalance = b.worst_imbalance;
+  r.mean_fluid_ghosts =
+      state_->fluid_ghost_samples ? state_->fluid_ghost_sum / double(state_->fluid_ghost_samples) : 0.0;
   return r;
 }
 template <class T, int D>
