@@ -269,8 +269,9 @@ void BM_DensityPass(benchmark::State& state) {
       particle_reduce(policy, c.n, Sum<double>{}, ReadValue{c.density.read(policy)}) / double(c.n);
 }
 
+// Keys, radix sort and permutation of the sortable variables, from a random order.
 template <class P>
-void BM_MortonSort(benchmark::State& state) {
+void sort_from_random_order(benchmark::State& state, SortOrder order) {
   const P policy{};
   if (unavailable<P>(state)) return;
   const int side = side_for(Index(state.range(0)));
@@ -278,7 +279,8 @@ void BM_MortonSort(benchmark::State& state) {
   Body<T, D> body("Lattice", lattice_box(side), n);
   body.particles().add_variable<Vec<T, D>>("Velocity", sortable_variable);
   body.particles().add_variable<T>("Density", sortable_variable);
-  ParticleSorter<T, D> sorter(body.particles(), body.positions(), SearchGrid<T, D>::make(lattice_box(side), cutoff));
+  ParticleSorter<T, D> sorter(body.particles(), body.positions(), SearchGrid<T, D>::make(lattice_box(side), cutoff), 1,
+                              order);
   for (auto _ : state) {
     state.PauseTiming();
     body.positions().assign(lattice(side, random_order, 1));
@@ -290,31 +292,18 @@ void BM_MortonSort(benchmark::State& state) {
   }
   state.counters["particles"] = double(n);
   state.counters["particles/s"] = benchmark::Counter(double(n) * double(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["key_bits"] = sorter.key_bits();
+}
+
+template <class P>
+void BM_MortonSort(benchmark::State& state) {
+  sort_from_random_order<P>(state, SortOrder::morton);
 }
 
 // From a random order, as BM_MortonSort, by cell index or by (cell index, id).
 template <class P, SortOrder O>
 void BM_CellSort(benchmark::State& state) {
-  const P policy{};
-  if (unavailable<P>(state)) return;
-  const int side = side_for(Index(state.range(0)));
-  const Index n = Index(side) * side * side;
-  Body<T, D> body("Lattice", lattice_box(side), n);
-  body.particles().add_variable<Vec<T, D>>("Velocity", sortable_variable);
-  body.particles().add_variable<T>("Density", sortable_variable);
-  ParticleSorter<T, D> sorter(body.particles(), body.positions(), SearchGrid<T, D>::make(lattice_box(side), cutoff), 1,
-                              O);
-  for (auto _ : state) {
-    state.PauseTiming();
-    body.positions().assign(lattice(side, random_order, 1));
-    body.positions().read(policy);
-    fence(policy);
-    state.ResumeTiming();
-    sorter.sort(policy);
-    fence(policy);
-  }
-  state.counters["particles"] = double(n);
-  state.counters["key_bits"] = sorter.key_bits();
+  sort_from_random_order<P>(state, O);
 }
 
 // order: 0 Morton, 1 random, 2 cell order, 3 and 4 Morton visited in cell order (4: with the

@@ -56,6 +56,15 @@ struct Scenario {
       fh[k] = Flag{static_cast<unsigned char>((b + k) % 251)};
     }
   }
+  // This rank's slice of the global particles, where it starts the test.
+  std::size_t slice_begin() const { return comm_test::slice_begin(n, comm.rank(), comm.size()); }
+  std::size_t slice_end() const { return comm_test::slice_begin(n, comm.rank() + 1, comm.size()); }
+  // The decomposition of the starting slices (collective).
+  Decomposition<D> decompose(DecompositionMethod method) const {
+    const std::span<const Vec<Real, D>> start(global.data() + slice_begin(), slice_end() - slice_begin());
+    return method == DecompositionMethod::morton ? decompose_morton(comm, grid, start)
+                                                 : decompose_bisection(comm, grid, start);
+  }
   View<const Vec<Real, D>> positions() {
     return View<const Vec<Real, D>>(vars.template get<Vec<Real, D>>("Position").read(MemorySpace::host).data(), owned);
   }
@@ -63,11 +72,7 @@ struct Scenario {
 
 template <int D, class P>
 void migrate_and_check(P policy, Scenario<D>& s, DecompositionMethod method, TransportKind kind) {
-  const std::size_t b = comm_test::slice_begin(s.n, s.comm.rank(), s.comm.size());
-  const std::size_t e = comm_test::slice_begin(s.n, s.comm.rank() + 1, s.comm.size());
-  const std::span<const Vec<Real, D>> start(s.global.data() + b, e - b);
-  const Decomposition<D> d =
-      method == DecompositionMethod::morton ? decompose_morton(s.comm, s.grid, start) : decompose_bisection(s.comm, s.grid, start);
+  const Decomposition<D> d = s.decompose(method);
   auto transport = make_transport(kind, s.comm);
   VariableExchange exchange;
   wrap_into_box(policy, s.grid, s.vars.template get<Vec<Real, D>>("Position"), s.owned);
@@ -179,11 +184,8 @@ std::vector<std::tuple<std::uint64_t, Vec<int, D>>> expected_ghosts(const Scenar
 
 template <int D, class P>
 void halo_and_check(P policy, Scenario<D>& s, DecompositionMethod method) {
-  const std::size_t b = comm_test::slice_begin(s.n, s.comm.rank(), s.comm.size());
-  const std::size_t e = comm_test::slice_begin(s.n, s.comm.rank() + 1, s.comm.size());
-  const std::span<const Vec<Real, D>> start(s.global.data() + b, e - b);
-  const Decomposition<D> d =
-      method == DecompositionMethod::morton ? decompose_morton(s.comm, s.grid, start) : decompose_bisection(s.comm, s.grid, start);
+  const std::size_t b = s.slice_begin(), e = s.slice_end();
+  const Decomposition<D> d = s.decompose(method);
   auto transport = make_transport(default_transport(P::space), s.comm);
   VariableExchange exchange;
   const Plan plan = migration_plan(s.comm, d, s.positions());
@@ -328,11 +330,8 @@ TYPED_TEST(CommHalo, ParticleSetGetsGhosts) {
 // double) list the same items in the same order as those built on the host.
 template <int D, class P, class S>
 void plans_on_policy_equal_host(P policy, Scenario<D>& s, DecompositionMethod method) {
-  const std::size_t b = comm_test::slice_begin(s.n, s.comm.rank(), s.comm.size());
-  const std::size_t e = comm_test::slice_begin(s.n, s.comm.rank() + 1, s.comm.size());
-  const std::span<const Vec<Real, D>> start(s.global.data() + b, e - b);
-  const Decomposition<D> d =
-      method == DecompositionMethod::morton ? decompose_morton(s.comm, s.grid, start) : decompose_bisection(s.comm, s.grid, start);
+  const std::size_t b = s.slice_begin(), e = s.slice_end();
+  const Decomposition<D> d = s.decompose(method);
   // Positions of this rank's slice (not yet migrated: many leave), in S on the policy.
   std::vector<Vec<S, D>> xs(e - b);
   std::vector<Vec<Real, D>> xr(e - b);

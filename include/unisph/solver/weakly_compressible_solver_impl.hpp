@@ -663,15 +663,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
       place_walls(p, 0.0);
       if (share) {
         // Every rank made the whole case (the same particles and ids); each keeps its share.
-        share->decompose(fluid_body);
-        share->keep_owned(p, fluid_body);
-        share->keep_owned(p, wall_body);
-        wall_sorter.sort(p);
-        share->gather(p, wall_body, wall_halo);
-        wall_cells.build(p);
-        fluid_sorter.sort(p);
-        share->gather(p, fluid_body, fluid_halo);
-        rebuild(p);
+        take_shares(p);
         return;
       }
       wall_sorter.sort(p);
@@ -679,6 +671,22 @@ struct WeaklyCompressibleSolver<T, D>::State {
       fluid_sorter.sort(p);
       rebuild(p);
     });
+  }
+
+  // Several ranks, sets made whole on every rank (at the start, or restored from a checkpoint):
+  // cut the domain from the fluid, keep each rank's share of fluid and walls, sort them, gather
+  // their ghosts and build the neighbour structures.
+  template <class P>
+  void take_shares(P p) {
+    share->decompose(fluid_body);
+    share->keep_owned(p, fluid_body);
+    share->keep_owned(p, wall_body);
+    wall_sorter.sort(p);
+    share->gather(p, wall_body, wall_halo);
+    wall_cells.build(p);
+    fluid_sorter.sort(p);
+    share->gather(p, fluid_body, fluid_halo);
+    rebuild(p);
   }
 
   // The wall's cell list, after its images where an axis is periodic (the wall does not move:
@@ -1170,15 +1178,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
       if (share) {
         // The restored sets are whole on every rank: cut the domain anew and keep each share,
         // as at the start.
-        share->decompose(fluid_body);
-        share->keep_owned(p, fluid_body);
-        share->keep_owned(p, wall_body);
-        wall_sorter.sort(p);
-        share->gather(p, wall_body, wall_halo);
-        wall_cells.build(p);
-        fluid_sorter.sort(p);
-        share->gather(p, fluid_body, fluid_halo);
-        rebuild(p);
+        take_shares(p);
         return;
       }
       // As at the end of an advection step: neighbour structures from the restored order.
