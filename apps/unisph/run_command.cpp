@@ -164,7 +164,8 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
   fs::create_directories(dir);
   const fs::path checkpoint_file = dir / "checkpoint.bin";
 
-  const bool continue_observers = restarted && fs::exists(dir / "observers.csv");
+  // Only the lead rank touches observers.csv: another rank's check or rewrite would race with it.
+  const bool continue_observers = lead && restarted && fs::exists(dir / "observers.csv");
   if (continue_observers) keep_observer_rows(dir / "observers.csv", run.observer_rows);
   std::ofstream observers;
   if (lead) observers.open(dir / "observers.csv", continue_observers ? std::ios::app : std::ios::trunc);
@@ -186,7 +187,7 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
   // about report.moment_point: <body>_mz in 2D, <body>_mx, _my, _mz in 3D.
   const bool with_loads = description.loads;
   const bool write_loads = with_loads && lead;
-  const bool continue_loads = with_loads && restarted && fs::exists(dir / "loads.csv");
+  const bool continue_loads = write_loads && restarted && fs::exists(dir / "loads.csv");
   if (continue_loads) keep_observer_rows(dir / "loads.csv", run.observer_rows > 0 ? run.observer_rows - 1 : 0);
   std::ofstream loads;
   std::vector<double> largest_force(solver.wall_bodies().size(), 0.0);
