@@ -170,6 +170,16 @@ void Communicator::allreduce_sum(std::span<std::uint64_t> values) const {
               "MPI_Allreduce(sum)");
   }
 }
+void Communicator::combine_owned(std::span<double> values) const {
+  if (!impl_ || values.empty()) return;
+  // MPI_SUM is exact here whatever its association: all but one addend of each element are 0.
+  const std::size_t chunk = std::size_t(1) << 28;
+  for (std::size_t at = 0; at < values.size(); at += chunk) {
+    const int n = static_cast<int>(std::min(chunk, values.size() - at));
+    check_mpi(MPI_Allreduce(MPI_IN_PLACE, values.data() + at, n, MPI_DOUBLE, MPI_SUM, comm_of(impl_)),
+              "MPI_Allreduce(sum)");
+  }
+}
 double Communicator::allreduce_sum(double x) const {
   // Not MPI_SUM: its association is the library's choice (and may change with the rank count
   // or the algorithm it picks); here every rank folds the gathered values in rank order.
@@ -292,6 +302,7 @@ std::uint64_t Communicator::allreduce_min(std::uint64_t x) const { return x; }
 std::uint64_t Communicator::allreduce_max(std::uint64_t x) const { return x; }
 std::uint64_t Communicator::allreduce_sum(std::uint64_t x) const { return x; }
 void Communicator::allreduce_sum(std::span<std::uint64_t>) const {}
+void Communicator::combine_owned(std::span<double>) const {}
 std::vector<std::uint64_t> Communicator::allgather(std::uint64_t x) const { return {x}; }
 std::vector<double> Communicator::allgather(double x) const { return {x}; }
 std::vector<double> Communicator::allgatherv(std::span<const double> local) const {

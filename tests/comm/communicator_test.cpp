@@ -4,6 +4,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -80,6 +81,24 @@ TEST(HostCommunicator, OrderedSumHasTheBitsOfOneRankForAnySplit) {
     const double sum = c.ordered_sum(std::span<const double>(global.data() + b, e - b));
     const double one_rank = deterministic_reduce(seq, n, Sum<double>{}, ValueAt{global.data()});
     EXPECT_EQ(std::bit_cast<std::uint64_t>(sum), std::bit_cast<std::uint64_t>(one_rank)) << "n = " << n;
+  }
+}
+
+TEST(HostCommunicator, CombineOwnedGivesEachOwnersBits) {
+  const Communicator c = Communicator::world();
+  // Element k belongs to rank k % size; its value has every bit of its mantissa in use, a NaN
+  // and an infinity among them.
+  std::vector<double> expected(37);
+  for (std::size_t k = 0; k < expected.size(); ++k) expected[k] = std::nextafter(1.0 / 3.0, 1.0) * std::pow(-7.0, double(k % 9) - 4);
+  expected[5] = std::numeric_limits<double>::quiet_NaN();
+  expected[6] = -std::numeric_limits<double>::infinity();
+  std::vector<double> values(expected.size(), 0.0);
+  for (std::size_t k = 0; k < values.size(); ++k)
+    if (int(k % std::size_t(c.size())) == c.rank()) values[k] = expected[k];
+  c.combine_owned(values);
+  for (std::size_t k = 0; k < values.size(); ++k) {
+    if (k == 5) EXPECT_TRUE(std::isnan(values[k]));
+    else EXPECT_EQ(std::bit_cast<std::uint64_t>(values[k]), std::bit_cast<std::uint64_t>(expected[k])) << "element " << k;
   }
 }
 

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstdlib>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -186,7 +187,9 @@ template <int D, class P>
 void halo_and_check(P policy, Scenario<D>& s, DecompositionMethod method) {
   const std::size_t b = s.slice_begin(), e = s.slice_end();
   const Decomposition<D> d = s.decompose(method);
-  auto transport = make_transport(default_transport(P::space), s.comm);
+  // UNISPH_TRANSPORT picks another transport (as in the solver), to compare them on one machine.
+  const char* chosen = std::getenv("UNISPH_TRANSPORT");
+  auto transport = make_transport(chosen && *chosen ? parse_transport(chosen) : default_transport(P::space), s.comm);
   VariableExchange exchange;
   const Plan plan = migration_plan(s.comm, d, s.positions());
   s.owned = migrate(policy, *transport, plan, s.vars, s.owned, exchange);

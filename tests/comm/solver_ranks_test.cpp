@@ -1,13 +1,14 @@
 // The SPH solver on several ranks against the same case on one: the 2D and 3D dam break, 200
 // advection steps on each policy, the particle states gathered by id and compared with the run
-// on one rank (made by rank 0 alone), and the observers (energies, mass, front, the wall probe)
-// that every rank reports for the whole fluid. The water crosses subdomains (particles migrate)
+// on one rank (made by rank 0 alone), and the observers (energies, mass, front, the wall probe,
+// two wave gauges and a velocity probe) that every rank reports for the whole fluid. The water crosses subdomains (particles migrate)
 // and the counts drift apart (the domain is cut anew). Run without mpirun (1 rank: the two runs
 // must have the same bits), under mpirun -np 2 and -np 4. On the host policies the states of 2
 // and 4 ranks must have the one rank's bits too: every neighbour sum visits cells in a fixed
 // order and the particles of a cell by global id (CellLinkedList::order_within_cells_by_id),
-// and the time step is an exact max. The observers summed over ranks (energies, mass, the
-// probe) are not bit-equal: their sums are grouped by rank.
+// and the time step is an exact max; the gauges and the velocity probe are read by the rank that
+// owns their points, as on one rank. The observers summed over ranks (energies, mass, the
+// pressure probe) are not bit-equal: their sums are grouped by rank.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -37,6 +38,15 @@ CaseDescription small_dam_break(int dimension) {
   c.output_interval = 100;
   c.probes[0].name = "left";
   c.probes[0].position[0] = 0.0;
+  // Gauges through the column and where the water runs (their lines cross subdomains), and a
+  // velocity probe in the column's foot: read on several ranks by each point's owner.
+  const double z = 0.25;  // 3D: across the tank's middle
+  c.gauges = {{"column", {1.0, 0.0}, 0.0, 2.0, 0}, {"run", {3.0, 0.0}, 0.0, 1.5, 0}};
+  c.velocity_probes = {{"foot", {1.5, 0.3}}};
+  if (dimension == 3) {
+    for (auto& g : c.gauges) g.position.push_back(z);
+    c.velocity_probes[0].position.push_back(z);
+  }
   return c;
 }
 
@@ -124,11 +134,12 @@ void agrees_with_one_rank(PolicyKind kind, int steps, const char* search = "stor
   std::printf("%dD, %s search, %d ranks, %d advection steps (t = %.4f, %llu acoustic), %zu fluid particles, %llu migrations, "
               "%llu rebalances: relative differences x %.3g, v %.3g, rho %.3g, p %.3g (%zu of %zu values differ in "
               "their bits); kinetic energy %.3g; mass %.17g against %.17g; front %.17g against %.17g; probe %.6g "
-              "against %.6g\n",
+              "against %.6g; gauges %.17g, %.17g against %.17g, %.17g\n",
               D, search, comm.size(), steps, one.time(), (unsigned long long)one.acoustic_steps(), rows.size(),
               (unsigned long long)migrated, (unsigned long long)many.rebalances(), dx, dv, drho, dp, differing,
               rows.size() * (2 * D + 2), dk, seen.mass, expected.mass, seen.front, expected.front,
-              seen.probe_pressure[0], expected.probe_pressure[0]);
+              seen.probe_pressure[0], expected.probe_pressure[0], seen.gauge_elevation.at(0), seen.gauge_elevation.at(1),
+              expected.gauge_elevation.at(0), expected.gauge_elevation.at(1));
   if (comm.size() > 1) {
     EXPECT_GT(migrated, 0u) << "the water never crossed a subdomain";
   }
@@ -137,6 +148,15 @@ void agrees_with_one_rank(PolicyKind kind, int steps, const char* search = "stor
   // probe's sums and the energies are grouped by rank).
   EXPECT_EQ(differing, 0u) << "the particle states differ in their bits from the run on one rank";
   EXPECT_EQ(seen.front, expected.front);
+  // The gauges and the velocity probe, read by each point's owner: the bits of one rank.
+  ASSERT_EQ(seen.gauge_elevation.size(), 2u);
+  ASSERT_EQ(seen.probe_velocity.size(), std::size_t(D));
+  for (std::size_t g = 0; g < 2; ++g)
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(seen.gauge_elevation[g]), std::bit_cast<std::uint64_t>(expected.gauge_elevation[g]))
+        << "gauge " << g << ": " << seen.gauge_elevation[g] << " against " << expected.gauge_elevation[g];
+  for (int a = 0; a < D; ++a)
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(seen.probe_velocity[a]), std::bit_cast<std::uint64_t>(expected.probe_velocity[a]))
+        << "velocity probe, component " << a;
   EXPECT_LE(dx, 1e-9);
   EXPECT_LE(dv, 1e-9);
   EXPECT_LE(drho, 1e-9);

@@ -20,6 +20,11 @@
 //                                      the same values in the same order. It gathers every value
 //                                      to every rank (O(global count) traffic): for short series
 //                                      (per-body totals, probes), not for per-particle fields.
+//   combine_owned(span<double>)        each element owned by one rank, which passes its value
+//                                      while the others pass 0: afterwards every rank holds the
+//                                      owner's value with its bits (x + 0 = x however MPI
+//                                      associates; -0 becomes +0). Measurements at points,
+//                                      each taken by the rank that owns the point.
 // NaN inputs propagate; min/max of an empty set is the identity (+inf / -inf, UINT64_MAX / 0).
 
 #include <cstdint>
@@ -91,6 +96,8 @@ class Communicator {
   // Elementwise sums of equal-length arrays (exact for integers), in place.
   void allreduce_sum(std::span<std::uint64_t> values) const;
   double ordered_sum(std::span<const double> local_values) const;
+  // Each element from the one rank that owns it (the others pass 0), in place.
+  void combine_owned(std::span<double> values) const;
 
   // Every rank's value, in rank order.
   std::vector<std::uint64_t> allgather(std::uint64_t x) const;

@@ -92,6 +92,13 @@ class RankShare {
   comm::Transport& transport() { return *transport_; }
   const comm::Decomposition<D>& decomposition() const { return decomposition_; }
   T width() const { return width_; }
+  // Whether this rank owns the point (its cell's owner; outside the domain: the nearest edge
+  // cell's, across a periodic face: the wrapped point's).
+  bool owns(const Vec<T, D>& x) const {
+    PlanPosition y;
+    for (int a = 0; a < D; ++a) y[a] = Real(x[a]);
+    return decomposition_.owner(y) == comm_.rank();
+  }
   // The farthest a particle may move within one advection step (the halo holds the particles
   // within cutoff + skin; two particles approach by at most twice this).
   T travel_limit() const { return skin_ / T(2); }

@@ -85,8 +85,7 @@ class WeaklyCompressibleSolver {
   // whole case and keeps the particles of its part of the domain, and each advection step
   // exchanges ghosts and migrating particles with the other ranks. Observers and loads are those
   // of the whole fluid on every rank; the counts and bodies below are this rank's. On one rank it
-  // is the constructor above. Not yet on several ranks: periodic axes, gauges, velocity probes,
-  // checkpoints (each refused with one line).
+  // is the constructor above. Not yet on several ranks: periodic axes (refused with one line).
   WeaklyCompressibleSolver(const CaseDescription& description, PolicyKind policy, const comm::Communicator& comm,
                            bool settle = true);
   ~WeaklyCompressibleSolver();

@@ -283,8 +283,6 @@ struct WeaklyCompressibleSolver<T, D>::State {
       throw Error("case '" + c.name + "': " + what + " on several ranks is not available yet (docs/multi_gpu.md); run it on one rank");
     };
     if (!c.domain.periodic.empty()) refuse("domain.periodic");
-    if (!c.gauges.empty()) refuse("[[gauge]]");
-    if (!c.velocity_probes.empty()) refuse("[[velocity_probe]]");
     return c;
   }
 
@@ -1227,23 +1225,66 @@ struct WeaklyCompressibleSolver<T, D>::State {
         s.kinetic_energy = global_sum(s.kinetic_energy);
         s.potential_energy = global_sum(s.potential_energy);
         s.mass = global_sum(s.mass);
+        // A pressure probe's kernel may reach beyond the halo (probe.kernel_width): each rank
+        // sums over its owned particles, and the sums are added.
         for (auto& probe : probes) {
           const Vec<T, 2> sums = probe->sums(p);
           const double weighted = global_sum(double(sums[0])), weight = global_sum(double(sums[1]));
           s.probe_pressure.push_back(weight > 0 ? weighted / weight : 0.0);
         }
-        return;
+      } else {
+        // A probe near a periodic face reads the images across it.
+        if (fluid_images && !probes.empty()) fluid_images->refresh(p, fluid.pressure, fluid.density, fluid.mass);
+        for (auto& probe : probes) s.probe_pressure.push_back(double(probe->exec(p)));
       }
-      // A probe near a periodic face reads the images across it.
-      if (fluid_images && !probes.empty()) fluid_images->refresh(p, fluid.pressure, fluid.density, fluid.mass);
-      for (auto& probe : probes) s.probe_pressure.push_back(double(probe->exec(p)));
-      if (velocity_probes)
-        for (const VelocityReading<T, D>& r : velocity_probes->measure(p))
+      // Gauges and velocity probes (the fluid's kernel, within the halo's reach): on several
+      // ranks each point is read by the rank that owns it, from its owned particles and ghosts
+      // (every particle within the cutoff of its cells, after the step's halo, in the cells'
+      // order by id, as the relaxations see them), and the readings are combined
+      // (comm::Communicator::combine_owned): the bits of one rank.
+      if (velocity_probes) {
+        std::vector<VelocityProbeSums<T, D>> sums = velocity_probes->sums(p);
+        if (share) {
+          constexpr std::size_t width = 2 * D + 1;
+          std::vector<double> flat(sums.size() * width, 0.0);
+          for (std::size_t k = 0; k < sums.size(); ++k) {
+            if (!owns(velocity_probes->probes()[k].position)) continue;
+            for (int a = 0; a < D; ++a) {
+              flat[k * width + std::size_t(a)] = double(sums[k].reference[a]);
+              flat[k * width + D + std::size_t(a)] = double(sums[k].weighted[a]);
+            }
+            flat[k * width + 2 * D] = double(sums[k].weight);
+          }
+          combine_owned(flat);
+          for (std::size_t k = 0; k < sums.size(); ++k) {
+            for (int a = 0; a < D; ++a) {
+              sums[k].reference[a] = T(flat[k * width + std::size_t(a)]);
+              sums[k].weighted[a] = T(flat[k * width + D + std::size_t(a)]);
+            }
+            sums[k].weight = T(flat[k * width + 2 * D]);
+          }
+        }
+        for (const VelocityReading<T, D>& r : VelocityProbes<T, D>::readings(sums))
           for (int a = 0; a < D; ++a) s.probe_velocity.push_back(double(r.velocity[a]));
-      if (gauges)
-        for (const GaugeReading<T>& r : gauges->measure(p)) s.gauge_elevation.push_back(double(r.elevation));
+      }
+      if (gauges) {
+        std::vector<T> sums = gauges->sums(p);
+        if (share) {
+          std::vector<double> owned_sums(sums.size(), 0.0);
+          for (std::size_t k = 0; k < sums.size(); ++k)
+            if (owns(gauges->sample_points()[k])) owned_sums[k] = double(sums[k]);
+          combine_owned(owned_sums);
+          for (std::size_t k = 0; k < sums.size(); ++k) sums[k] = T(owned_sums[k]);
+        }
+        for (const GaugeReading<T>& r : gauges->readings(sums)) s.gauge_elevation.push_back(double(r.elevation));
+      }
     });
     return s;
+  }
+  // Several ranks: whether this rank owns the point (one rank: always).
+  bool owns(const Vector& x) const { return !share || share->owns(x); }
+  void combine_owned(std::vector<double>& values) const {
+    if (share) share->comm().combine_owned(values);
   }
 
   CaseDescription description;

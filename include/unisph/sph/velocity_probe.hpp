@@ -116,18 +116,26 @@ class VelocityProbes : public UpdateDynamics<VelocityProbes<T, D>> {
 
   template <ExecutionPolicy P>
   std::vector<VelocityReading<T, D>> measure(P policy) {
-    std::vector<VelocityReading<T, D>> readings;
-    if (probes_.empty()) return readings;
+    return readings(sums(policy));
+  }
+  // The two halves of measure(), for probes spread over ranks (each probe's sums taken by the
+  // rank that owns its point, then combined): the sums of every probe (one launch, copied to
+  // the host), and the readings from such sums.
+  template <ExecutionPolicy P>
+  std::vector<VelocityProbeSums<T, D>> sums(P policy) {
+    if (probes_.empty()) return {};
     this->exec(policy);
-    View<const VelocityProbeSums<T, D>> sums = sums_.read(MemorySpace::host);
-    for (Index p = 0; p < sums.size(); ++p) {
-      const VelocityProbeSums<T, D>& s = sums[p];
+    return sums_.to_vector();
+  }
+  static std::vector<VelocityReading<T, D>> readings(std::span<const VelocityProbeSums<T, D>> sums) {
+    std::vector<VelocityReading<T, D>> out;
+    for (const VelocityProbeSums<T, D>& s : sums) {
       if (s.weight > T(0))
-        readings.push_back({s.reference + s.weighted / s.weight, s.weight, true});
+        out.push_back({s.reference + s.weighted / s.weight, s.weight, true});
       else
-        readings.push_back({Vec<T, D>{}, s.weight, false});
+        out.push_back({Vec<T, D>{}, s.weight, false});
     }
-    return readings;
+    return out;
   }
 
   const std::vector<VelocityProbePoint<T, D>>& probes() const { return probes_; }

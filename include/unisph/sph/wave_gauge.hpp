@@ -159,6 +159,7 @@ class WaveGauges : public UpdateDynamics<WaveGauges<T, D>> {
     }
     samples_.assign(std::span<const Vec<T, D>>(points.data(), points.size()));
     sums_.resize(samples_.size());
+    points_ = std::move(points);
   }
 
   struct Kernel {
@@ -185,14 +186,28 @@ class WaveGauges : public UpdateDynamics<WaveGauges<T, D>> {
   // The kernel sums at every sample (one launch), then each gauge's highest crossing (host).
   template <ExecutionPolicy P>
   std::vector<GaugeReading<T>> measure(P policy) {
-    std::vector<GaugeReading<T>> readings;
-    if (lines_.empty()) return readings;
-    this->exec(policy);
-    View<const T> sums = sums_.read(MemorySpace::host);
-    for (std::size_t g = 0; g < lines_.size(); ++g)
-      readings.push_back(highest_crossing(levels_.data() + first_[g], sums.data() + first_[g], counts_[g], threshold_));
-    return readings;
+    return readings(sums(policy));
   }
+  // The two halves of measure(), for samples spread over ranks (each sample's sum taken by the
+  // rank that owns its point, then combined): the kernel sum at every sample (one launch, copied
+  // to the host; sample_points() order), and each gauge's reading from such sums.
+  template <ExecutionPolicy P>
+  std::vector<T> sums(P policy) {
+    if (lines_.empty()) return {};
+    this->exec(policy);
+    return sums_.to_vector();
+  }
+  std::vector<GaugeReading<T>> readings(std::span<const T> sums) const {
+    if (sums.size() != levels_.size())
+      throw Error("wave gauges: " + std::to_string(sums.size()) + " sums for " + std::to_string(levels_.size()) +
+                  " samples");
+    std::vector<GaugeReading<T>> out;
+    for (std::size_t g = 0; g < lines_.size(); ++g)
+      out.push_back(highest_crossing(levels_.data() + first_[g], sums.data() + first_[g], counts_[g], threshold_));
+    return out;
+  }
+  // Every gauge's sample points, gauge after gauge, bottom to top (on the host).
+  const std::vector<Vec<T, D>>& sample_points() const { return points_; }
 
   const std::vector<WaveGaugeLine<T, D>>& lines() const { return lines_; }
   // The observer CSV's columns, in the order of measure()'s readings: gauge_<name>.
@@ -239,6 +254,7 @@ class WaveGauges : public UpdateDynamics<WaveGauges<T, D>> {
   Vec<T, D> up_{};
   std::vector<Index> first_, counts_;  // each gauge's samples in samples_
   std::vector<T> levels_;              // every sample's level, gauge after gauge
+  std::vector<Vec<T, D>> points_;      // every sample's point, in the same order
   DiscreteVariable<Vec<T, D>> samples_;
   DiscreteVariable<T> sums_;
 };
