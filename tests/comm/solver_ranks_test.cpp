@@ -17,11 +17,13 @@
 #include <cstdlib>
 #include <cstdint>
 #include <cstdio>
+#include <sstream>
 #include <vector>
 
 #include "support/policy_test.hpp"
 #include "support/small_dam_break.hpp"
 #include "unisph/comm/communicator.hpp"
+#include "unisph/solver/case_file.hpp"
 #include "unisph/solver/weakly_compressible_solver.hpp"
 
 namespace {
@@ -47,6 +49,35 @@ CaseDescription small_dam_break(int dimension) {
     for (auto& g : c.gauges) g.position.push_back(z);
     c.velocity_probes[0].position.push_back(z);
   }
+  return c;
+}
+
+// A column collapsing on a floor in a domain periodic along x (3D: along x and z): the water
+// runs out both ways and through the periodic faces, where it meets itself; the floor runs
+// through the faces. A pressure probe, a gauge and a velocity probe beside the faces read the
+// images across them.
+CaseDescription periodic_collapse(int dimension) {
+  const bool three = dimension == 3;
+  std::ostringstream t;
+  t << "[case]\nname = \"periodic_collapse\"\ndimension = " << dimension << "\n"
+    << "[geometry]\ndx = " << (three ? "0.1" : "0.05") << "\n"
+    << "[domain]\nlower = [0.0, -0.25" << (three ? ", 0.0" : "") << "]\nupper = [4.0, 3.0" << (three ? ", 0.6" : "")
+    << "]\nperiodic = [\"x\"" << (three ? ", \"z\"" : "") << "]\n"
+    << "[[shape]]\nname = \"floor\"\ntype = \"box\"\nlower = [-1.0, -0.5" << (three ? ", -1.0" : "")
+    << "]\nupper = [5.0, 0.0" << (three ? ", 1.6" : "") << "]\n"
+    << "[[shape]]\nname = \"column\"\ntype = \"box\"\nlower = [1.4, 0.0" << (three ? ", 0.0" : "")
+    << "]\nupper = [2.6, 1.2" << (three ? ", 0.6" : "") << "]\n"
+    << "[[body]]\nname = \"floor\"\nkind = \"wall\"\nshape = \"floor\"\n"
+    << "[[body]]\nname = \"water\"\nkind = \"fluid\"\nshape = \"column\"\n"
+    << "[fluid]\ndensity = 1.0\nreference_velocity = 2.0\nsound_speed = 20.0\n"
+    << "[physics]\ngravity = [0.0, -1.0" << (three ? ", 0.0" : "") << "]\n"
+    << "[time]\nend = 100.0\noutput_interval = 100.0\n"
+    << "[[probe]]\nname = \"face\"\nposition = [0.05, 0.05" << (three ? ", 0.3" : "") << "]\n"
+    << "[[gauge]]\nname = \"face\"\nposition = [0.05, 0.0" << (three ? ", 0.05" : "") << "]\nbottom = 0.0\ntop = 1.5\n"
+    << "[[gauge]]\nname = \"column\"\nposition = [2.0, 0.0" << (three ? ", 0.3" : "") << "]\nbottom = 0.0\ntop = 1.5\n"
+    << "[[velocity_probe]]\nname = \"face\"\nposition = [3.97, 0.1" << (three ? ", 0.58" : "") << "]\n";
+  CaseDescription c = parse_case(t.str(), "periodic_collapse.toml");
+  c.neighbor_search = "stored";
   return c;
 }
 
@@ -102,9 +133,9 @@ std::size_t differing_bits(const std::vector<std::vector<double>>& a, const std:
 // the cells anew and reads the neighbours' records, in cell order on one rank, by the runs of
 // the id-ordered list on several).
 template <int D>
-void agrees_with_one_rank(PolicyKind kind, int steps, const char* search = "stored") {
+void agrees_with_one_rank(PolicyKind kind, int steps, const char* search = "stored", bool periodic = false) {
   const comm::Communicator comm = comm::Communicator::world();
-  CaseDescription c = small_dam_break(D);
+  CaseDescription c = periodic ? periodic_collapse(D) : small_dam_break(D);
   c.neighbor_search = search;
   WeaklyCompressibleSolver<double, D> many(c, kind, comm);
   for (int k = 0; k < steps; ++k) many.advance(c.end_time);
@@ -148,6 +179,14 @@ void agrees_with_one_rank(PolicyKind kind, int steps, const char* search = "stor
   // probe's sums and the energies are grouped by rank).
   EXPECT_EQ(differing, 0u) << "the particle states differ in their bits from the run on one rank";
   EXPECT_EQ(seen.front, expected.front);
+  if (periodic) {
+    // The water went through the faces: particles at both ends of the domain along x.
+    double lowest = 1e300, highest = -1e300;
+    for (const auto& r : rows) lowest = std::min(lowest, r[1]), highest = std::max(highest, r[1]);
+    std::printf("  periodic: fluid from x = %.3f to %.3f in [0, 4]\n", lowest, highest);
+    EXPECT_LT(lowest, 0.2);
+    EXPECT_GT(highest, 3.8);
+  }
   // The gauges and the velocity probe, read by each point's owner: the bits of one rank.
   ASSERT_EQ(seen.gauge_elevation.size(), 2u);
   ASSERT_EQ(seen.probe_velocity.size(), std::size_t(D));
@@ -182,6 +221,13 @@ TYPED_TEST(SolverRanks, DamBreak2DDirectSearchAgreesWithOneRank) {
 }
 TYPED_TEST(SolverRanks, DamBreak3DDirectSearchAgreesWithOneRank) {
   agrees_with_one_rank<3>(kind_of<TypeParam>(), 200, "direct");
+}
+// Periodic axes: the halo holds the images across the faces (the own rank's among them).
+TYPED_TEST(SolverRanks, PeriodicCollapse2DAgreesWithOneRank) {
+  agrees_with_one_rank<2>(kind_of<TypeParam>(), 200, "stored", true);
+}
+TYPED_TEST(SolverRanks, PeriodicCollapse3DDirectSearchAgreesWithOneRank) {
+  agrees_with_one_rank<3>(kind_of<TypeParam>(), 200, "direct", true);
 }
 
 }  // namespace

@@ -136,13 +136,14 @@ struct CountParticles {
   View<std::uint32_t> slot_of;  // empty when the list is ordered by id (the sort places them)
   View<std::uint32_t> counts;
   View<unsigned long long> counters;  // out of box, non-finite, flagged, not in cell order
+  Index reported;  // out of box and non-finite are counted among particles [0, reported)
 
   UNISPH_HOST_DEVICE void operator()(Index i) const {
     const CellPlacement<D> p = grid.place(positions[i]);
     std::uint32_t bucket = static_cast<std::uint32_t>(grid.linear_index(p.cell));
     if (p.status != placement_inside) {
-      if (p.status & placement_out_of_box) atomic_add(&counters[0], 1ull);
-      if (p.status & placement_non_finite) atomic_add(&counters[1], 1ull);
+      if ((p.status & placement_out_of_box) && i < reported) atomic_add(&counters[0], 1ull);
+      if ((p.status & placement_non_finite) && i < reported) atomic_add(&counters[1], 1ull);
       if (flag_outside) {
         bucket = flagged_bucket;
         atomic_add(&counters[2], 1ull);
@@ -338,7 +339,7 @@ class CellLinkedList {
                                                         static_cast<std::uint32_t>(grid_.cell_count()),
                                                         positions_.read(policy), bucket_of_.write(policy),
                                                         by_id ? View<std::uint32_t>{} : slot_of_.write(policy),
-                                                        offsets, counters});
+                                                        offsets, counters, reported_});
     if (by_id) {
       sort_by_id(policy, n, counters);
       find_runs(policy, n, counters);
@@ -362,6 +363,11 @@ class CellLinkedList {
 
   // How many times build() ran: relations compare it to tell stale stored lists.
   std::uint64_t builds() const { return builds_; }
+
+  // report() counts the particles out of the box or not finite among the first n only (all
+  // where never called): a set whose ghosts lie outside by design (other ranks' periodic
+  // images, clamped into the border cells) reports its owned particles.
+  void report_only_first(Index n) { reported_ = n; }
 
   // The counts of the last build (waits for it on the device; copies four numbers).
   CellListReport report() {
@@ -459,6 +465,7 @@ class CellLinkedList {
   ParticleSet* id_set_ = nullptr;         // ordered by the ids of this set; null: by the atomics
   bool store_points_ = false;
   Index built_count_ = 0;
+  Index reported_ = std::numeric_limits<Index>::max();  // report_only_first()
   std::uint64_t builds_ = 0;
 };
 

@@ -41,8 +41,9 @@ class RankShare {
   using PlanPosition = Vec<Real, D>;
   using Halo = comm::Halo<D, T>;
 
+  // `periodic[a]` != 0: axis a is periodic (the halo then holds the images across its faces).
   RankShare(const comm::Communicator& comm, const Box<T, D>& domain, T cutoff, T skin, MemorySpace space,
-            double rebalance_fraction)
+            double rebalance_fraction, Vec<int, D> periodic = Vec<int, D>{})
       : comm_(comm),
         transport_(comm::make_transport(transport_kind(space), comm)),
         width_(cutoff + skin),
@@ -54,7 +55,7 @@ class RankShare {
       box.lower[a] = Real(domain.lower[a]);
       box.upper[a] = Real(domain.upper[a]);
     }
-    grid_ = comm::make_cell_grid<D>(box, Real(width_));
+    grid_ = comm::make_cell_grid<D>(box, Real(width_), periodic);
     if (grid_.cell_count() < std::uint64_t(comm.size()))
       throw Error("the domain holds " + std::to_string(grid_.cell_count()) + " cells of " + std::to_string(double(width_)) +
                   " (the kernel's cutoff and the halo's skin) for " + std::to_string(comm.size()) +
@@ -92,6 +93,11 @@ class RankShare {
   comm::Transport& transport() { return *transport_; }
   const comm::Decomposition<D>& decomposition() const { return decomposition_; }
   T width() const { return width_; }
+  bool periodic() const {
+    for (int a = 0; a < D; ++a)
+      if (grid_.periodic[a]) return true;
+    return false;
+  }
   // Whether this rank owns the point (its cell's owner; outside the domain: the nearest edge
   // cell's, across a periodic face: the wrapped point's).
   bool owns(const Vec<T, D>& x) const {

@@ -203,6 +203,12 @@ struct WeaklyCompressibleSolver<T, D>::State {
       }
     }
   }
+  // The domain's length along each periodic axis, 0 along the others.
+  static Vec<T, D> period_of(const CaseDescription& c, const Box<T, D>& domain) {
+    Vec<T, D> period{};
+    for (int a : c.domain.periodic) period[a] = domain.upper[a] - domain.lower[a];
+    return period;
+  }
   // The cell lists' box: the domain, or images->search_box() (the images lie beyond the faces).
   static Box<T, D> search_box_of(const std::unique_ptr<PeriodicImages<T, D>>& images, const Box<T, D>& domain) {
     return images ? images->search_box() : domain;
@@ -276,18 +282,8 @@ struct WeaklyCompressibleSolver<T, D>::State {
     return WallFreeBox<T, D>::around(walls, lower, upper, seed, cutoff);
   }
 
-  // On several ranks (comm->size() > 1): what the solver cannot do there yet, one line each.
-  static const CaseDescription& checked_for_ranks(const CaseDescription& c, const comm::Communicator* comm) {
-    if (!comm || comm->size() == 1) return c;
-    const auto refuse = [&](const std::string& what) {
-      throw Error("case '" + c.name + "': " + what + " on several ranks is not available yet (docs/multi_gpu.md); run it on one rank");
-    };
-    if (!c.domain.periodic.empty()) refuse("domain.periodic");
-    return c;
-  }
-
   State(const CaseDescription& c, PolicyKind kind, bool settle_now, const comm::Communicator* comm)
-      : description(checked(checked_for_ranks(c, comm))),
+      : description(checked(c)),
         policy(kind),
         kernel(WendlandC2Kernel<T, D>::from_spacing(T(c.dx))),
         particles(particles_of(c, kind)),
@@ -346,7 +342,8 @@ struct WeaklyCompressibleSolver<T, D>::State {
       Vector x{};
       for (int a = 0; a < D; ++a) x[a] = T(p.position[a]);
       probes.push_back(std::make_unique<PressureProbe<T, D>>(
-          fluid, WendlandC2Kernel<T, D>::from_spacing(T(c.dx * p.kernel_width)), x, !(comm && comm->size() > 1)));
+          fluid, WendlandC2Kernel<T, D>::from_spacing(T(c.dx * p.kernel_width)), x, !(comm && comm->size() > 1),
+          period_of(c, domain)));
     }
     check_walls_along_periodic_axes(c, particles, domain, wall_groups, double(kernel.cutoff()));
     make_wall_motions(c);
@@ -387,7 +384,14 @@ struct WeaklyCompressibleSolver<T, D>::State {
       visit_policy(policy, [&](auto p) { space = decltype(p)::space; });
       // The skin: a particle moves at most 0.25 h per advection step while its speed holds
       // (Dt = 0.25 h / |v|max); h leaves room for speeds that double within the step.
-      share = std::make_unique<RankShare<T, D>>(*comm, domain, kernel.cutoff(), kernel.h, space, rebalance_fraction);
+      Vec<int, D> periodic{};
+      for (int a : c.domain.periodic) periodic[a] = 1;
+      share = std::make_unique<RankShare<T, D>>(*comm, domain, kernel.cutoff(), kernel.h, space, rebalance_fraction,
+                                                periodic);
+      // Along periodic axes the halo holds the images across the faces, the own rank's among
+      // them; the images' object only wraps the fluid into the box (and gave the cells' box).
+      rank_wrap = std::move(fluid_images);
+      wall_images.reset();
     }
     initialise();
     if (settle_now) settle();
@@ -418,6 +422,12 @@ struct WeaklyCompressibleSolver<T, D>::State {
   template <class P>
   void refresh_ghost_records(P p) {
     share->refresh(p, fluid_body, *fluid_halo, ghost_record_names);
+    // A periodic image's record holds its source's position: shift it as the position was.
+    const Index ghosts = fluid_body.particles().ghost_count();
+    if (share->periodic() && ghosts > 0)
+      particle_for(p, ghosts,
+                   GhostRecordPositions<T, D>{fluid.position.read(p), fluid.neighbor_position_volume.read_write(p),
+                                              fluid.size()});
   }
   // Several ranks: wall particles to the owners of their cells, sorted, their ghosts gathered,
   // binned (after a rebalance, and after moving walls moved).
@@ -730,6 +740,9 @@ struct WeaklyCompressibleSolver<T, D>::State {
       // Ghosts from other ranks are neighbours, never sources.
       inner.set_source_count(fluid.size());
       contact.set_source_count(fluid.size());
+      // Ghosts (other ranks' particles, periodic images) may lie outside the cells' box by
+      // design: only the owned particles are checked for leaving the domain.
+      fluid_cells.report_only_first(fluid.size());
     }
     fluid_cells.build(p);
     // With stored lists, dW/dr of each pair is cached with its geometry (the relaxations read it).
@@ -739,7 +752,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
     refresh_records.exec(p);
     if (share) refresh_ghost_records(p);
     const CellListReport report = fluid_cells.report();
-    // On several ranks the counts of all (a ghost outside is counted again; only zero matters).
+    // On several ranks the counts of all ranks' owned particles.
     const std::uint64_t non_finite = global_sum(std::uint64_t(report.non_finite));
     const std::uint64_t out_of_box = global_sum(std::uint64_t(report.out_of_box));
     if (non_finite != 0 || (out_of_box != 0 && description.domain.leaving != "remove"))
@@ -955,6 +968,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
         wall_cells.build(p);
       }
       if (fluid_images) fluid_images->wrap(p);  // before the sort: its cells are the box's
+      if (rank_wrap) rank_wrap->wrap(p);        // before the migration: owners by the wrapped position
       if (share) share->migrate(p, fluid_body);  // before the sort: the arrivals are sorted with the rest
       if (sort_now) fluid_sorter.sort(p);
       if (share) {
@@ -1320,6 +1334,9 @@ struct WeaklyCompressibleSolver<T, D>::State {
   // Ghost images along periodic axes (case domain.periodic); null where no axis is periodic.
   std::unique_ptr<PeriodicImages<T, D>> fluid_images;
   std::unique_ptr<PeriodicImages<T, D>> wall_images;
+  // Several ranks with periodic axes: the fluid's images object, kept to wrap positions into the
+  // box (the halo makes the images); fluid_images and wall_images are then null.
+  std::unique_ptr<PeriodicImages<T, D>> rank_wrap;
   Box<T, D> search_box;  // of the cell lists: the domain, or beyond its periodic faces
   CellLinkedList<T, D> fluid_cells;
   CellLinkedList<T, D> wall_cells;

@@ -43,4 +43,16 @@ struct RefreshImageRecords {
 };
 static_assert(std::is_trivially_copyable_v<RefreshImageRecords<float, 3>>, "Kernels are copied to the device byte for byte.");
 
+// Several ranks with periodic axes: the halo shifts a periodic image's position, and its record
+// arrives with its source's; ghost g (slot first + g) takes its own position into its record,
+// the bits RefreshImageRecords gives an image on one rank (its source's position plus the shift).
+template <class T, int D>
+struct GhostRecordPositions {
+  View<const Vec<T, D>> position;
+  View<PositionVolume<T, D>> position_volume;
+  Index first;
+  UNISPH_HOST_DEVICE void operator()(Index g) const { position_volume[first + g].position = position[first + g]; }
+};
+static_assert(std::is_trivially_copyable_v<GhostRecordPositions<float, 3>>, "Kernels are copied to the device byte for byte.");
+
 }  // namespace unisph::sph

@@ -17,17 +17,24 @@ template <class T, int D>
 class PressureProbe : public ReduceDynamics<PressureProbe<T, D>, Sum<Vec<T, 2>>> {
  public:
   // `ghosts_are_images`: ghosts are the images of periodic axes, which the probe reads; false
-  // where they are copies of other ranks' particles, which those ranks count (sums()).
+  // where they are copies of other ranks' particles, which those ranks count (sums()). Then
+  // `period` (0 along the axes that are not periodic) gives the owned particles' nearest image.
   PressureProbe(FluidVariables<T, D>& fluid, WendlandC2Kernel<T, D> kernel, Vec<T, D> point,
-                bool ghosts_are_images = true)
-      : fluid_(fluid), kernel_(kernel), point_(point), ghosts_are_images_(ghosts_are_images) {}
+                bool ghosts_are_images = true, Vec<T, D> period = Vec<T, D>{})
+      : fluid_(fluid), kernel_(kernel), point_(point), period_(period), ghosts_are_images_(ghosts_are_images) {}
   struct Kernel {
     View<const Vec<T, D>> position;
     View<const T> pressure, density, mass;
     WendlandC2Kernel<T, D> kernel;
     Vec<T, D> point;
+    Vec<T, D> period;
     UNISPH_HOST_DEVICE Vec<T, 2> reduce(Index i, Real) const {
-      const Vec<T, D> r = point - position[i];
+      Vec<T, D> r = point - position[i];
+      for (int a = 0; a < D; ++a) {
+        if (!(period[a] > T(0))) continue;
+        if (r[a] > period[a] / T(2)) r[a] -= period[a];
+        else if (r[a] < -period[a] / T(2)) r[a] += period[a];
+      }
       const T r2 = squared_norm(r);
       const T cutoff = kernel.cutoff();
       if (r2 >= cutoff * cutoff) return Vec<T, 2>{};
@@ -38,7 +45,7 @@ class PressureProbe : public ReduceDynamics<PressureProbe<T, D>, Sum<Vec<T, 2>>>
   static_assert(std::is_trivially_copyable_v<Kernel>, "Kernels are copied to the device byte for byte.");
   Kernel make_kernel(KernelContext& c) {
     return {c.read(fluid_.position), c.read(fluid_.pressure), c.read(fluid_.density), c.read(fluid_.mass), kernel_,
-            point_};
+            point_, ghosts_are_images_ ? Vec<T, D>{} : period_};
   }
   // Owned particles and ghosts: a probe near a periodic face sees the images across it (their
   // pressure, density and mass refreshed by the caller).
@@ -56,6 +63,7 @@ class PressureProbe : public ReduceDynamics<PressureProbe<T, D>, Sum<Vec<T, 2>>>
   FluidVariables<T, D>& fluid_;
   WendlandC2Kernel<T, D> kernel_;
   Vec<T, D> point_;
+  Vec<T, D> period_;
   bool ghosts_are_images_;
 };
 
