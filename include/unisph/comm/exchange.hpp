@@ -10,6 +10,7 @@
 // Sources that call these templates launch kernels: list them in unisph_kernel_sources().
 
 #include <cstdint>
+#include <cstring>
 #include <span>
 #include <string>
 #include <vector>
@@ -41,9 +42,13 @@ struct PackElements {
   }
 };
 
-// The same for a position: the copy is shifted by the item's periodic image.
+// The same for a position: the copy is shifted by the item's periodic image. Written in 4-byte
+// words: segments are aligned to 4 bytes only (a segment after a 1-byte variable's), and a
+// store of a double there is a misaligned address on the GPU (seen on H100s: the periodic halo
+// tests, whose ranks send to themselves and to others, stopped with cudaErrorMisalignedAddress).
 template <class T>
 struct PackShifted {
+  static_assert(sizeof(T) % 4 == 0, "A shifted position is packed in 4-byte words: its size must be a multiple of 4.");
   View<const std::uint32_t> index;
   View<const std::int32_t> rank;
   View<const std::uint64_t> item_offset;
@@ -52,11 +57,14 @@ struct PackShifted {
   const T* src;
   unsigned char* buffer;
   UNISPH_HOST_DEVICE void operator()(Index k) const {
+    constexpr Index words = sizeof(T) / 4;
     const int r = rank[k];
     T value = src[index[k]];
     value += shift[k];
-    T* to = reinterpret_cast<T*>(buffer + segment_offset[r]) + (k - item_offset[r]);
-    *to = value;
+    std::uint32_t w[words];
+    memcpy(w, &value, sizeof(T));
+    std::uint32_t* to = reinterpret_cast<std::uint32_t*>(buffer + segment_offset[r]) + (k - item_offset[r]) * words;
+    for (Index i = 0; i < words; ++i) to[i] = w[i];
   }
 };
 
