@@ -687,8 +687,10 @@ struct WeaklyCompressibleSolver<T, D>::State {
   template <class P>
   void take_shares(P p) {
     share->decompose(fluid_body);
-    share->keep_owned(p, fluid_body);
-    share->keep_owned(p, wall_body);
+    // On the host, where the particles were made or restored: a device then takes memory for
+    // this rank's share only (its copies are allocated at their first access, after this).
+    share->keep_owned(par, fluid_body);
+    share->keep_owned(par, wall_body);
     wall_sorter.sort(p);
     share->gather(p, wall_body, wall_halo);
     wall_cells.build(p);
