@@ -44,7 +44,7 @@ run() {  # name gpus transport case
     /^fluid particles/{f=$2} /^acoustic steps/{s=$2} /^wall time \(time loop/{l=$2+0}
     /^wall time writing snapshots/{w=$2+0} /^fluid-particle acoustic steps per second, snapshots excluded/{rate=$2}
     /^rank [0-9]+:/{ a = field($0, "acoustic steps "); e = field($0, "advection-step ends ");
-        x = field($0, "exchanging and plans "); r = field($0, "ghost refreshes ");
+        x = field($0, "exchanging and plans "); r = field($0, "ghost refreshes in them ");
         if (a > am) am = a; if (e > em) em = e; if (x > xm) xm = x; if (r > rm) rm = r }
     END{ printf "%-13s %d GPU %-11s fluid %9d acoustic %4d loop %6.2f s (snapshots %5.2f s) %.3e steps/s | slowest rank: acoustic %.3f s (refreshes %.3f s), step ends %.3f s, exchange+plans %.2f ms/step\n", name, n, t, f, s, l, w, rate, am, rm, em, xm
          printf "%d,%s,%s,%d,%d,%.3f,%.3f,%.4e,%.3f,%.3f,%.3f,%.3f\n", n, (name ~ /^weak/ ? "weak" : "strong"), t, f, s, l, w, rate, am, rm, em, xm >> OUT_CSV }' \

@@ -9,7 +9,9 @@
 #  * a checkpoint written on NP ranks at t = 0.5 restarts on one process and on NP ranks (and
 #    on 2 where NP is 4), and a checkpoint of one process restarts on NP ranks: each restarted
 #    run ends (t = 1) with every fluid particle's position, velocity, density and pressure the
-#    same bits as the run on one process without a restart (python3-vtk9, where installed).
+#    same bits as the run on one process without a restart (python3-vtk9, where installed);
+#  * the piston flume (moving paddle, gauges, velocity probe, loads) and Poiseuille flow
+#    (periodic along x): observers and loads within 1e-9 of one process.
 set -u
 exe=$1; cases=$2; work=$3; mpiexec=$4; np=$5; shift 5
 rm -rf "$work"; mkdir -p "$work"
@@ -37,6 +39,37 @@ for ra, rb in zip(a, b):
 print(f"  {len(a)} rows, largest relative difference {worst:.3g}")
 assert worst <= 1e-9
 PY
+
+# Two more cases against one process: the piston flume (a moving paddle, wave gauges, a
+# velocity probe, wall loads, a damping zone) and Poiseuille flow (periodic along x): every
+# observer and load within 1e-9 (gauges and velocity probes: the same values).
+same_csv() {  # label file_one file_ranks
+  /usr/bin/python3 - "$2" "$3" <<'PY' && ok "$1 within 1e-9 on $np ranks" || fail "$1 differs on $np ranks"
+import csv, sys
+def rows(path):
+    lines = [l for l in open(path) if not l.startswith('#')]
+    r = list(csv.reader(lines))
+    return r[0], [[float(v) for v in row] for row in r[1:]]
+h1, a = rows(sys.argv[1]); h2, b = rows(sys.argv[2])
+assert h1 == h2, (h1, h2)
+assert len(a) == len(b) and len(a) > 1, (len(a), len(b))
+worst = 0.0
+for ra, rb in zip(a, b):
+    for x, y in zip(ra, rb):
+        worst = max(worst, abs(x - y) / max(abs(x), 1e-300) if x != 0 else abs(y))
+print(f"  {len(a)} rows of {len(h1)} columns, largest relative difference {worst:.3g}")
+assert worst <= 1e-9
+PY
+}
+for c in "piston_flume_2d:--dx 0.05 --end-time 1" "poiseuille_2d:--end-time 0.5"; do
+  name=${c%%:*}; read -r -a extra <<< "${c#*:}"
+  more=("$cases/$name.toml" "${extra[@]}" --policy par --quiet)
+  "$exe" run "${more[@]}" --output "$work/${name}_one" || fail "$name on one process"
+  "$mpiexec" -np "$np" "$@" "$exe" run "${more[@]}" --output "$work/${name}_ranks" || fail "$name on $np ranks"
+  same_csv "$name: observers" "$work/${name}_one/observers.csv" "$work/${name}_ranks/observers.csv"
+  [ -f "$work/${name}_one/loads.csv" ] &&
+    same_csv "$name: loads" "$work/${name}_one/loads.csv" "$work/${name}_ranks/loads.csv"
+done
 
 ls "$work/ranks"/Water_000001_r*.vtp > /dev/null 2>&1 || fail "no per-rank pieces"
 [ "$(ls "$work/ranks"/Water_000001_r*.vtp | wc -l)" = "$np" ] && ok "$np pieces per snapshot" || fail "not $np pieces"

@@ -119,6 +119,7 @@ class WeaklyCompressibleSolver {
     double refresh_seconds = 0;
     std::uint64_t exchanges = 0;
     double acoustic_loop_seconds = 0;  // advance()'s acoustic steps, ghost refreshes included
+    double acoustic_refresh_seconds = 0;  // of which: the ghost refreshes within them
     double step_end_seconds = 0;       // the ends of its advection steps: migration, sort, halo, lists
   };
   RankTimings rank_timings() const;

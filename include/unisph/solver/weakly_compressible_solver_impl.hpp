@@ -894,6 +894,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
       double relaxed = 0;
       // Several ranks: where the time goes (the device waited for at each mark).
       const auto loop_start = share ? share->now(p) : std::chrono::steady_clock::time_point{};
+      const double refreshed_before_loop = share ? share->timings().refresh_seconds : 0.0;
       // The last step is shortened to end at Dt, or kept whole where the case asks for it
       // (time.last_acoustic_step); never past `until`, and never longer than a Dt that the
       // viscous limit made shorter than one acoustic step.
@@ -948,7 +949,10 @@ struct WeaklyCompressibleSolver<T, D>::State {
         last_acoustic_dt = dt;
       }
       const auto loop_end = share ? share->now(p) : std::chrono::steady_clock::time_point{};
-      if (share) acoustic_loop_seconds += share->seconds(loop_start, loop_end);
+      if (share) {
+        acoustic_loop_seconds += share->seconds(loop_start, loop_end);
+        acoustic_refresh_seconds += share->timings().refresh_seconds - refreshed_before_loop;
+      }
       time += relaxed;
       ++advection_steps;
       finish_loads();
@@ -1382,6 +1386,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
   // Several ranks: wall time in the acoustic steps of advance() (ghost refreshes included) and
   // in the ends of its advection steps (migration, sort, halo, neighbour structures).
   double acoustic_loop_seconds = 0;
+  double acoustic_refresh_seconds = 0;  // the ghost refreshes within the acoustic steps
   double step_end_seconds = 0;
   double fluid_ghost_sum = 0;  // fluid ghosts after each advection step's halo, summed
   std::uint64_t fluid_ghost_samples = 0;
@@ -1439,6 +1444,7 @@ typename WeaklyCompressibleSolver<T, D>::RankTimings WeaklyCompressibleSolver<T,
   r.refresh_seconds = t.refresh_seconds;
   r.exchanges = t.exchanges;
   r.acoustic_loop_seconds = state_->acoustic_loop_seconds;
+  r.acoustic_refresh_seconds = state_->acoustic_refresh_seconds;
   r.step_end_seconds = state_->step_end_seconds;
   return r;
 }
