@@ -150,6 +150,14 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
   if (lead && !restarted && description.settling_time > 0 && !options.quiet)
     std::fprintf(stderr, "settling: %g time units with the velocity damped at %g per unit of time...\n", description.settling_time,
                 description.settling_damping);
+  // A GPU's memory for this run: the free memory before the solver less the least seen at the
+  // outputs (particles, ghosts, lists and the kept scratch; the CUDA context left out).
+  const bool on_device = kind == PolicyKind::device;
+  const std::uint64_t free_before = on_device ? device_free_bytes() : 0;
+  std::uint64_t least_free = free_before;
+  const auto sample_device_memory = [&] {
+    if (on_device) least_free = std::min(least_free, device_free_bytes());
+  };
   Solver solver(description, kind, world, !restarted);
   RunState run;
   run.next_output = description.output_interval;
@@ -221,6 +229,7 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
 
   auto record = [&] {
     ++run.observer_rows;
+    sample_device_memory();
     const sph::ObserverSample s = solver.observe();  // collective on several ranks
     if (!lead) return;
     observers << s.time << ',' << s.time / description.time_scale << ',' << s.front << ','
@@ -314,6 +323,7 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
   Progress progress(options.quiet || !lead, solver.time(), first_acoustic_step, double(fluid_particles));
   const auto timings_before_loop = solver.rank_timings();  // set-up and NCCL's start left out
   const auto loop_start = std::chrono::steady_clock::now();
+  const double setup_seconds = std::chrono::duration<double>(loop_start - start).count();
   double snapshot_seconds = 0;  // writing snapshots within the time loop
   std::string failure;
   try {
@@ -342,6 +352,8 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
   progress.show(solver, end_time, loop_seconds, true);
   observers.close();
   // Several ranks: each rank's GPU and particles, for the log (collective).
+  sample_device_memory();
+  const std::vector<double> rank_device_bytes = world.allgather(double(free_before - least_free));
   const std::vector<std::uint64_t> rank_fluid = world.allgather(std::uint64_t(solver.fluid_count()));
   const std::vector<std::uint64_t> rank_wall = world.allgather(std::uint64_t(solver.wall_count()));
   const std::vector<std::uint64_t> rank_migrated = world.allgather(solver.particles_migrated());
@@ -372,6 +384,14 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
       << "policy: " << to_string(kind) << (kind == PolicyKind::device ? " (" + execution_info().device_name + ")" : "")
       << "\ndx: " << description.dx << "\nsmoothing length h: " << solver.smoothing_length()
       << "\nfluid particles: " << fluid_now << "\nwall particles: " << wall_particles;
+  if (on_device) {
+    double device_bytes = 0;
+    for (double b : rank_device_bytes) device_bytes += b;
+    log << "\ndevice memory (the free memory before the run less the least seen at its outputs"
+        << (ranks ? ", all GPUs" : "") << "): " << device_bytes / double(1ull << 30) << " GiB, "
+        << device_bytes / double(std::max<std::uint64_t>(1, fluid_now + wall_particles))
+        << " bytes per fluid and wall particle (ghosts, neighbour lists and scratch included)";
+  }
   if (ranks) {
     log << "\nranks: " << world.size() << " (domain cut "
         << (balance.method == "bisection" ? "by recursive bisection" : "along the Morton curve") << "; cut again "
@@ -383,7 +403,10 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
                                                                   : "local rank " + std::to_string(rank_local[std::size_t(r)]))
           << ", " << rank_fluid[std::size_t(r)] << " fluid and " << rank_wall[std::size_t(r)]
           << " wall particles owned at the end, " << rank_migrated[std::size_t(r)] << " particles sent to other ranks, "
-          << rank_ghosts[std::size_t(r)] << " fluid ghosts on average; "
+          << rank_ghosts[std::size_t(r)] << " fluid ghosts on average"
+          << (on_device ? ", device memory " + std::to_string(rank_device_bytes[std::size_t(r)] / double(1ull << 30)) + " GiB"
+                        : std::string())
+          << "; "
           << "time loop: acoustic steps " << rank_acoustic[std::size_t(r)] << " s (ghost refreshes in them "
           << rank_loop_refresh[std::size_t(r)] << " s), advection-step ends " << rank_step_end[std::size_t(r)]
           << " s (migration " << rank_migrate[std::size_t(r)] << " s, halo " << rank_gather[std::size_t(r)]
@@ -427,6 +450,8 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
       << (restarted ? "\nrestarted from: " + options.restart + " (acoustic steps before it: " +
                           std::to_string(first_acoustic_step) + ")"
                     : std::string())
+      << "\nwall time setting up (making the case, settling, cutting it among ranks, the first output): "
+      << setup_seconds << " s"
       << "\nwall time (time loop, output included): " << loop_seconds << " s"
       << "\nwall time (total): " << total_seconds << " s"
       << "\nwall time writing snapshots in the time loop: " << snapshot_seconds << " s"

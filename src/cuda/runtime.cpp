@@ -38,6 +38,15 @@ int select_device_ordinal(int ordinal) {
   return chosen;
 }
 
+std::uint64_t free_device_bytes() {
+  std::size_t free = 0, total = 0;
+  if (cudaMemGetInfo(&free, &total) != cudaSuccess) {
+    cudaGetLastError();
+    return 0;
+  }
+  return free;
+}
+
 void describe_device(ExecutionInfo& info) {
   info.cuda_built = true;
   int count = 0;
@@ -180,6 +189,7 @@ void* pinned_result_buffer() {
 #else  // no CUDA backend in this build
 
 int select_device_ordinal(int) { return -1; }
+std::uint64_t free_device_bytes() { return 0; }
 
 void describe_device(ExecutionInfo& info) {
   info.cuda_built = false;

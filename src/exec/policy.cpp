@@ -52,6 +52,7 @@ int host_threads() {
 }
 
 int select_device(int ordinal) { return cuda::select_device_ordinal(ordinal); }
+std::uint64_t device_free_bytes() { return cuda::free_device_bytes(); }
 
 const ExecutionInfo& execution_info() {
   static ExecutionInfo info = [] {

@@ -8,6 +8,7 @@
 //   par             --policy par        par
 //   par_device      --policy device     gpu
 
+#include <cstdint>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -54,6 +55,11 @@ enum class PolicyKind { seq, par, device };
 // the rank's number on its node). Call it before anything else touches the GPU; returns the
 // ordinal chosen, or -1 where no GPU is present or the build has no CUDA backend.
 int select_device(int ordinal);
+
+// The free memory of this process's GPU now (cudaMemGetInfo; it makes the GPU's context where
+// none exists); 0 where there is no GPU or the build has no CUDA backend. A run's device memory
+// is the free memory before it less the least free memory seen during it.
+std::uint64_t device_free_bytes();
 
 std::string_view to_string(PolicyKind kind);
 // Parses "seq", "par" or "device"; throws unisph::Error naming the accepted words otherwise.

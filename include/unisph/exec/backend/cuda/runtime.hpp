@@ -8,6 +8,7 @@
 // (a variable's name, an algorithm) and the size, then CUDA's own words.
 
 #include <cstddef>
+#include <cstdint>
 #include <string_view>
 
 namespace unisph {
@@ -19,6 +20,7 @@ namespace unisph::cuda {
 // Fills the device fields of `info` (built, present, name, reason when absent). Never throws.
 void describe_device(ExecutionInfo& info);
 int select_device_ordinal(int ordinal);  // select_device() (exec/policy.hpp)
+std::uint64_t free_device_bytes();       // device_free_bytes() (exec/policy.hpp)
 
 // Throws PolicyUnavailable (with the reason) unless the CUDA backend is built and a GPU is present.
 void require_device();
