@@ -160,26 +160,22 @@ std::uint64_t Communicator::allreduce_max(std::uint64_t x) const {
 std::uint64_t Communicator::allreduce_sum(std::uint64_t x) const {
   return allreduce(impl_, x, MPI_SUM, "MPI_Allreduce(sum)");
 }
-void Communicator::allreduce_sum(std::span<std::uint64_t> values) const {
-  if (!impl_ || values.empty()) return;
-  // In chunks: MPI counts are int.
+namespace {
+// Elementwise MPI_SUM of an array in place, in chunks: MPI counts are int.
+template <class T>
+void sum_in_place(const std::shared_ptr<Communicator::Impl>& impl, std::span<T> values, MPI_Datatype type) {
+  if (!impl || values.empty()) return;
   const std::size_t chunk = std::size_t(1) << 28;
   for (std::size_t at = 0; at < values.size(); at += chunk) {
     const int n = static_cast<int>(std::min(chunk, values.size() - at));
-    check_mpi(MPI_Allreduce(MPI_IN_PLACE, values.data() + at, n, MPI_UINT64_T, MPI_SUM, comm_of(impl_)),
-              "MPI_Allreduce(sum)");
+    check_mpi(MPI_Allreduce(MPI_IN_PLACE, values.data() + at, n, type, MPI_SUM, comm_of(impl)), "MPI_Allreduce(sum)");
   }
 }
-void Communicator::combine_owned(std::span<double> values) const {
-  if (!impl_ || values.empty()) return;
-  // MPI_SUM is exact here whatever its association: all but one addend of each element are 0.
-  const std::size_t chunk = std::size_t(1) << 28;
-  for (std::size_t at = 0; at < values.size(); at += chunk) {
-    const int n = static_cast<int>(std::min(chunk, values.size() - at));
-    check_mpi(MPI_Allreduce(MPI_IN_PLACE, values.data() + at, n, MPI_DOUBLE, MPI_SUM, comm_of(impl_)),
-              "MPI_Allreduce(sum)");
-  }
-}
+}  // namespace
+
+void Communicator::allreduce_sum(std::span<std::uint64_t> values) const { sum_in_place(impl_, values, MPI_UINT64_T); }
+// MPI_SUM is exact here whatever its association: all but one addend of each element are 0.
+void Communicator::combine_owned(std::span<double> values) const { sum_in_place(impl_, values, MPI_DOUBLE); }
 double Communicator::allreduce_sum(double x) const {
   // Not MPI_SUM: its association is the library's choice (and may change with the rank count
   // or the algorithm it picks); here every rank folds the gathered values in rank order.
