@@ -354,6 +354,8 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
   // Several ranks: each rank's GPU and particles, for the log (collective).
   sample_device_memory();
   const std::vector<double> rank_device_bytes = world.allgather(double(free_before - least_free));
+  const DeviceMemoryUse memory_use = on_device ? device_memory_use() : DeviceMemoryUse{};
+  const std::vector<double> rank_allocated_peak = world.allgather(double(memory_use.peak_bytes));
   const std::vector<std::uint64_t> rank_fluid = world.allgather(std::uint64_t(solver.fluid_count()));
   const std::vector<std::uint64_t> rank_wall = world.allgather(std::uint64_t(solver.wall_count()));
   const std::vector<std::uint64_t> rank_migrated = world.allgather(solver.particles_migrated());
@@ -391,11 +393,22 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
         << (ranks ? ", all GPUs" : "") << "): " << device_bytes / double(1ull << 30) << " GiB, "
         << device_bytes / double(std::max<std::uint64_t>(1, fluid_now + wall_particles))
         << " bytes per fluid and wall particle (ghosts, neighbour lists and scratch included)";
+    // Where it went: unisph's own blocks by use (rank 0's), the rest is the libraries' (NCCL, CUDA).
+    const auto gib = [](double b) { return b / double(1ull << 30); };
+    log << "\ndevice memory unisph allocated" << (ranks ? " (rank 0)" : "") << ": at most " << gib(double(memory_use.peak_bytes))
+        << " GiB at once, " << gib(double(memory_use.bytes)) << " GiB at the end, of which";
+    const std::size_t shown = std::min<std::size_t>(memory_use.groups.size(), 12);
+    for (std::size_t k = 0; k < shown; ++k)
+      log << (k ? "," : "") << " " << memory_use.groups[k].what << " " << gib(double(memory_use.groups[k].bytes)) << " GiB"
+          << (memory_use.groups[k].blocks > 1 ? " (" + std::to_string(memory_use.groups[k].blocks) + " blocks)" : std::string());
+    if (memory_use.groups.size() > shown) log << " and " << memory_use.groups.size() - shown << " smaller uses";
   }
   if (ranks) {
     log << "\nranks: " << world.size() << " (domain cut "
         << (balance.method == "bisection" ? "by recursive bisection" : "along the Morton curve") << "; cut again "
-        << solver.rebalances() << " times; transport " << solver.transport() << ")"
+        << solver.rebalances() << " times; transport " << solver.transport() << "; "
+        << (solver.made_in_shares() ? "each rank made only its own particles" : "every rank made the whole case and kept its share")
+        << ")"
         << "\nfluid balance (max / mean of the ranks' fluid particles at each advection step): mean "
         << balance.mean_imbalance << ", worst " << balance.worst_imbalance;
     for (int r = 0; r < world.size(); ++r)
@@ -404,7 +417,9 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
           << ", " << rank_fluid[std::size_t(r)] << " fluid and " << rank_wall[std::size_t(r)]
           << " wall particles owned at the end, " << rank_migrated[std::size_t(r)] << " particles sent to other ranks, "
           << rank_ghosts[std::size_t(r)] << " fluid ghosts on average"
-          << (on_device ? ", device memory " + std::to_string(rank_device_bytes[std::size_t(r)] / double(1ull << 30)) + " GiB"
+          << (on_device ? ", device memory " + std::to_string(rank_device_bytes[std::size_t(r)] / double(1ull << 30)) +
+                              " GiB (unisph's own at most " +
+                              std::to_string(rank_allocated_peak[std::size_t(r)] / double(1ull << 30)) + " GiB)"
                         : std::string())
           << "; "
           << "time loop: acoustic steps " << rank_acoustic[std::size_t(r)] << " s (ghost refreshes in them "

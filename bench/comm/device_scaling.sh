@@ -8,6 +8,9 @@
 #            NCCL; host-staged beside it on the largest count
 #   weak     the same column and tank widened with the GPU count (4,096,000 fluid particles per
 #            GPU: the flow of each slice is that of one GPU's case), NCCL
+#   share    one GPU with one N-th of the strong case (the tank and column narrowed to 0.5 / N):
+#            the rate one GPU reaches on each GPU's share, which bounds the strong speed-up on N
+#            (N times the share's rate over the whole case's)
 #
 # For each run one line (and OUT/scaling.csv): GPUs, transport, fluid particles, acoustic steps,
 # the time loop and its snapshots, fluid-particle acoustic steps per second without them, and
@@ -47,7 +50,7 @@ run() {  # name gpus transport case
         x = field($0, "exchanging and plans "); r = field($0, "ghost refreshes in them ");
         if (a > am) am = a; if (e > em) em = e; if (x > xm) xm = x; if (r > rm) rm = r }
     END{ printf "%-13s %d GPU %-11s fluid %9d acoustic %4d loop %6.2f s (snapshots %5.2f s) %.3e steps/s | slowest rank: acoustic %.3f s (refreshes %.3f s), step ends %.3f s, exchange+plans %.2f ms/step\n", name, n, t, f, s, l, w, rate, am, rm, em, xm
-         printf "%d,%s,%s,%d,%d,%.3f,%.3f,%.4e,%.3f,%.3f,%.3f,%.3f\n", n, (name ~ /^weak/ ? "weak" : "strong"), t, f, s, l, w, rate, am, rm, em, xm >> OUT_CSV }' \
+         printf "%d,%s,%s,%d,%d,%.3f,%.3f,%.4e,%.3f,%.3f,%.3f,%.3f\n", n, (name ~ /^weak/ ? "weak" : name ~ /^share/ ? "share" : "strong"), t, f, s, l, w, rate, am, rm, em, xm >> OUT_CSV }' \
     OUT_CSV="$OUT/scaling.csv" "$dir/run.log"
 }
 
@@ -64,5 +67,15 @@ for n in "${GPUS[@]}"; do
       -e "s/^name = \"dambreak_3d\"/name = \"dambreak_3d_weak_$n\"/" "$HERE/cases/dambreak_3d.toml" > "$W/weak_$n.toml"
   grep -q "tank = \[5.366, 2.0, $width\]" "$W/weak_$n.toml" || { echo "weak case $n not made"; continue; }
   run "weak_$n" "$n" nccl "$W/weak_$n.toml"
+done
+for n in "${GPUS[@]}"; do
+  [ "$n" -gt 1 ] || continue
+  width=$(awk -v n="$n" 'BEGIN{print 0.5 / n}')
+  half=$(awk -v n="$n" 'BEGIN{print 0.25 / n}')  # the probes at mid-width
+  sed -e "s/^position = \[\(.*\), 0.25\]/position = [\1, $half]/" -e "s/^tank = \[5.366, 2.0, 0.5\]/tank = [5.366, 2.0, $width]/" \
+      -e "s/^column = \[2.0, 1.0, 0.5\]/column = [2.0, 1.0, $width]/" \
+      -e "s/^name = \"dambreak_3d\"/name = \"dambreak_3d_share_$n\"/" "$HERE/cases/dambreak_3d.toml" > "$W/share_$n.toml"
+  grep -q "tank = \[5.366, 2.0, $width\]" "$W/share_$n.toml" || { echo "share case $n not made"; continue; }
+  run "share_$n" 1 - "$W/share_$n.toml"
 done
 rm -rf "$W"

@@ -4,8 +4,11 @@
 
 #include "unisph/exec/backend/cuda/runtime.hpp"
 
+#include <algorithm>
+#include <map>
 #include <mutex>
 #include <string>
+#include <unordered_map>
 
 #include "unisph/core/error.hpp"
 #include "unisph/exec/policy.hpp"
@@ -25,7 +28,49 @@ void require_device() {
 
 namespace {
 std::string bytes_text(std::size_t bytes) { return std::to_string(bytes) + " bytes"; }
+
+// Every live allocation with what it served, for device_memory_use(): allocations are rare in
+// a run's steady state (variables keep their storage), so a map under a lock costs nothing.
+struct Ledger {
+  std::mutex mutex;
+  std::unordered_map<void*, std::pair<std::size_t, std::string>> live;
+  std::uint64_t bytes = 0, peak = 0;
+};
+Ledger& ledger() {
+  static Ledger l;
+  return l;
+}
+// "resizing variable 'Position' (10 elements of 24 bytes) to 12 elements" -> "variable 'Position'".
+std::string group_of(std::string_view what) {
+  if (what.rfind("resizing ", 0) == 0) what.remove_prefix(9);
+  const std::size_t paren = what.find(" (");
+  return std::string(paren == std::string_view::npos ? what : what.substr(0, paren));
+}
 }  // namespace
+
+std::vector<AllocationGroup> live_allocations() {
+  Ledger& l = ledger();
+  std::lock_guard lock(l.mutex);
+  std::map<std::string, AllocationGroup> groups;
+  for (const auto& [ptr, entry] : l.live) {
+    AllocationGroup& g = groups[entry.second];
+    g.what = entry.second;
+    g.bytes += entry.first;
+    ++g.count;
+  }
+  std::vector<AllocationGroup> out;
+  for (auto& [name, g] : groups) out.push_back(std::move(g));
+  std::stable_sort(out.begin(), out.end(), [](const AllocationGroup& a, const AllocationGroup& b) { return a.bytes > b.bytes; });
+  return out;
+}
+std::uint64_t allocated_bytes() {
+  std::lock_guard lock(ledger().mutex);
+  return ledger().bytes;
+}
+std::uint64_t allocated_peak_bytes() {
+  std::lock_guard lock(ledger().mutex);
+  return ledger().peak;
+}
 
 int select_device_ordinal(int ordinal) {
   int count = 0;
@@ -123,11 +168,23 @@ void* allocate(std::size_t bytes, std::string_view what) {
     cudaGetLastError();  // clear the sticky-free error so later calls are not blamed
     check(err, "cudaMalloc of " + bytes_text(bytes) + " for " + std::string(what));
   }
+  Ledger& l = ledger();
+  std::lock_guard lock(l.mutex);
+  l.live.emplace(ptr, std::make_pair(bytes, group_of(what)));
+  l.bytes += bytes;
+  l.peak = std::max(l.peak, l.bytes);
   return ptr;
 }
 
 void deallocate(void* ptr) noexcept {
-  if (ptr) cudaFree(ptr);
+  if (!ptr) return;
+  cudaFree(ptr);
+  Ledger& l = ledger();
+  std::lock_guard lock(l.mutex);
+  const auto at = l.live.find(ptr);
+  if (at == l.live.end()) return;
+  l.bytes -= at->second.first;
+  l.live.erase(at);
 }
 
 void copy_to_device(void* dst, const void* src, std::size_t bytes, std::string_view what) {
@@ -206,6 +263,9 @@ void* pinned_result_buffer() { unavailable(); }
 int multiprocessor_count() { unavailable(); }
 void* allocate(std::size_t, std::string_view) { unavailable(); }
 void deallocate(void*) noexcept {}
+std::vector<AllocationGroup> live_allocations() { return {}; }
+std::uint64_t allocated_bytes() { return 0; }
+std::uint64_t allocated_peak_bytes() { return 0; }
 void copy_to_device(void*, const void*, std::size_t, std::string_view) { unavailable(); }
 void copy_to_host(void*, const void*, std::size_t, std::string_view) { unavailable(); }
 void copy_on_device(void*, const void*, std::size_t, std::string_view) { unavailable(); }

@@ -53,6 +53,11 @@ int host_threads() {
 
 int select_device(int ordinal) { return cuda::select_device_ordinal(ordinal); }
 std::uint64_t device_free_bytes() { return cuda::free_device_bytes(); }
+DeviceMemoryUse device_memory_use() {
+  DeviceMemoryUse use{cuda::allocated_bytes(), cuda::allocated_peak_bytes(), {}};
+  for (cuda::AllocationGroup& g : cuda::live_allocations()) use.groups.push_back({std::move(g.what), g.bytes, g.count});
+  return use;
+}
 
 const ExecutionInfo& execution_info() {
   static ExecutionInfo info = [] {

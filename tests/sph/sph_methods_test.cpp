@@ -82,6 +82,55 @@ TEST(HostSphTank, FourWallLayersWithUnitNormals) {
   EXPECT_EQ(t3.wall.size(), std::size_t(18 * 18 * 13 - 10 * 10 * 5));
 }
 
+// Any box of the tank's lattice made alone has the whole case's ids: the particles of the
+// whole case whose position lies in the box, in the same order (a run on several ranks makes
+// only each rank's share).
+template <int D>
+void expect_boxes_of_the_whole_case(const std::vector<double>& tank, const std::vector<double>& column, double dx) {
+  const auto whole = make_tank_particles<double, D>(tank, column, dx);
+  const TankLattice<D> lattice(tank, column, dx);
+  ASSERT_EQ(lattice.fluid_count(), whole.fluid.size());
+  ASSERT_EQ(lattice.wall_count(), whole.wall.size());
+  const double boxes[4][2][3] = {{{-1, -1, -1}, {9, 9, 9}},
+                                 {{0.25, 0.3, 0.1}, {0.75, 0.9, 0.35}},
+                                 {{-0.5, 0.55, -0.5}, {0.5, 2.0, 0.2}},
+                                 {{0.95, -0.5, 0.3}, {5.0, 0.05, 5.0}}};
+  for (const auto& box : boxes) {
+    const auto in_box = [&](const Vec<double, D>& x) {
+      for (int a = 0; a < D; ++a)
+        if (!(x[a] >= box[0][a] && x[a] < box[1][a])) return false;
+      return true;
+    };
+    std::vector<std::uint64_t> expected, made;
+    for (std::size_t k = 0; k < whole.fluid.size(); ++k)
+      if (in_box(whole.fluid[k])) expected.push_back(k);
+    lattice.fluid_within(box[0], box[1], [&](std::uint64_t id, const double* p) {
+      made.push_back(id);
+      for (int a = 0; a < D; ++a) EXPECT_EQ(p[a], whole.fluid[id][a]);
+    });
+    EXPECT_EQ(made, expected);
+    expected.clear();
+    made.clear();
+    for (std::size_t k = 0; k < whole.wall.size(); ++k)
+      if (in_box(whole.wall[k])) expected.push_back(k);
+    lattice.walls_within(box[0], box[1], [&](std::uint64_t id, const double* p, const double* n) {
+      made.push_back(id);
+      for (int a = 0; a < D; ++a) {
+        EXPECT_EQ(p[a], whole.wall[id][a]);
+        EXPECT_EQ(n[a], whole.wall_normal[id][a]);
+      }
+    });
+    EXPECT_EQ(made, expected);
+  }
+}
+
+TEST(HostSphTank, AnyBoxOfTheLatticeHasTheWholeCasesIds) {
+  expect_boxes_of_the_whole_case<2>({2.0, 1.5}, {1.0, 0.5}, 0.1);
+  expect_boxes_of_the_whole_case<2>({1.07, 0.93}, {0.6, 0.45}, 0.05);
+  expect_boxes_of_the_whole_case<3>({1.0, 1.0, 0.5}, {0.5, 0.5, 0.5}, 0.1);
+  expect_boxes_of_the_whole_case<3>({1.13, 0.77, 0.41}, {0.52, 0.33, 0.41}, 0.05);
+}
+
 const char* valid_case = R"(
 [case]
 name = "t"

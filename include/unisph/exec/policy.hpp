@@ -61,6 +61,21 @@ int select_device(int ordinal);
 // is the free memory before it less the least free memory seen during it.
 std::uint64_t device_free_bytes();
 
+// The device memory unisph itself allocated (variables, scratch), grouped by what each block
+// served ("variable 'Position'", "scratch storage of ..."), largest first; and the most held
+// at once. The rest of a run's device memory is the libraries' (NCCL's buffers, CUDA's
+// runtime). Empty and 0 where there is no GPU.
+struct DeviceMemoryGroup {
+  std::string what;
+  std::uint64_t bytes = 0;
+  std::uint64_t blocks = 0;
+};
+struct DeviceMemoryUse {
+  std::uint64_t bytes = 0, peak_bytes = 0;
+  std::vector<DeviceMemoryGroup> groups;
+};
+DeviceMemoryUse device_memory_use();
+
 std::string_view to_string(PolicyKind kind);
 // Parses "seq", "par" or "device"; throws unisph::Error naming the accepted words otherwise.
 PolicyKind parse_policy(std::string_view name);

@@ -19,10 +19,10 @@ class Body {
   using Position = Vec<T, D>;
 
   Body(std::string name, const Box<T, D>& domain, Index owned_count, Index ghost_count = 0,
-       std::uint64_t first_id = 0)
+       std::uint64_t first_id = 0, SetShare share = {})
       : name_(std::move(name)),
         domain_(domain),
-        particles_(name_, owned_count, ghost_count, first_id),
+        particles_(name_, owned_count, ghost_count, first_id, share),
         positions_(particles_.add_variable(position_tag<T, D>, sortable_output_variable)) {}
 
   const std::string& name() const { return name_; }

@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <limits>
+#include <span>
 #include <string>
 
 #include "unisph/exec/algorithms.hpp"
@@ -44,25 +45,44 @@ struct FillIndex {
 // index_of_id() of a particle that is no longer in the set (removed by shrink_owned).
 inline constexpr std::uint32_t absent_particle_index = std::numeric_limits<std::uint32_t>::max();
 
+// A set made in shares, each rank making only its own particles of one whole set: the whole
+// set's size, and each owned particle's number in it (its id less first_id), ascending. A
+// default one (whole = 0) stands for a set made whole: particle k is number k.
+struct SetShare {
+  std::uint64_t whole = 0;
+  std::span<const std::uint64_t> numbers;
+};
+
 class ParticleSet {
  public:
-  ParticleSet(std::string name, Index owned_count, Index ghost_count = 0, std::uint64_t first_id = 0)
+  ParticleSet(std::string name, Index owned_count, Index ghost_count = 0, std::uint64_t first_id = 0,
+              SetShare share = {})
       : name_(std::move(name)),
         owned_(owned_count),
         ghosts_(ghost_count),
         first_id_(first_id),
         variables_("particle set '" + name_ + "'", owned_count + ghost_count),
-        index_of_id_(name_ + ".IndexOfId", owned_count),
+        index_of_id_(name_ + ".IndexOfId", share.whole ? Index(share.whole) : owned_count),
         scratch_(name_ + ".ReorderScratch") {
-    if (owned_count >= Index(std::numeric_limits<std::uint32_t>::max()))
-      throw Error("particle set '" + name_ + "': " + std::to_string(owned_count) +
+    if (owned_count >= Index(std::numeric_limits<std::uint32_t>::max()) ||
+        share.whole >= std::uint64_t(std::numeric_limits<std::uint32_t>::max()))
+      throw Error("particle set '" + name_ + "': " + std::to_string(std::max<std::uint64_t>(owned_count, share.whole)) +
                   " particles; particle indices are 32-bit");
+    if (share.whole && share.numbers.size() != std::size_t(owned_count))
+      throw Error("particle set '" + name_ + "': a share of " + std::to_string(owned_count) + " particles with " +
+                  std::to_string(share.numbers.size()) + " numbers");
     DiscreteVariable<std::uint64_t>& ids = variables_.add(particle_id_tag, sortable_output_variable);
     View<std::uint64_t> id = ids.write(MemorySpace::host);
     View<std::uint32_t> index = index_of_id_.write(MemorySpace::host);
+    if (share.whole)
+      for (Index k = 0; k < index.size(); ++k) index[k] = absent_particle_index;
     for (Index k = 0; k < owned_count; ++k) {
-      id[k] = first_id + k;
-      index[k] = static_cast<std::uint32_t>(k);
+      const std::uint64_t number = share.whole ? share.numbers[k] : k;
+      if (number >= index_of_id_.size())
+        throw Error("particle set '" + name_ + "': particle number " + std::to_string(number) + " of a set of " +
+                    std::to_string(index_of_id_.size()));
+      id[k] = first_id + number;
+      index[number] = static_cast<std::uint32_t>(k);
     }
   }
 

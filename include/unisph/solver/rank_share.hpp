@@ -21,6 +21,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -49,17 +50,37 @@ class RankShare {
         width_(cutoff + skin),
         skin_(skin),
         rebalance_fraction_(rebalance_fraction),
-        method_(decomposition_method()) {
+        method_(decomposition_method()),
+        grid_(grid_of(comm, domain, cutoff, skin, periodic)) {}
+
+  // The decomposition's cell grid: cells at least cutoff + skin wide over the domain.
+  static comm::CellGrid<D> grid_of(const comm::Communicator& comm, const Box<T, D>& domain, T cutoff, T skin,
+                                   Vec<int, D> periodic = Vec<int, D>{}) {
     Box<Real, D> box;
     for (int a = 0; a < D; ++a) {
       box.lower[a] = Real(domain.lower[a]);
       box.upper[a] = Real(domain.upper[a]);
     }
-    grid_ = comm::make_cell_grid<D>(box, Real(width_), periodic);
-    if (grid_.cell_count() < std::uint64_t(comm.size()))
-      throw Error("the domain holds " + std::to_string(grid_.cell_count()) + " cells of " + std::to_string(double(width_)) +
+    const T width = cutoff + skin;
+    comm::CellGrid<D> grid = comm::make_cell_grid<D>(box, Real(width), periodic);
+    if (grid.cell_count() < std::uint64_t(comm.size()))
+      throw Error("the domain holds " + std::to_string(grid.cell_count()) + " cells of " + std::to_string(double(width)) +
                   " (the kernel's cutoff and the halo's skin) for " + std::to_string(comm.size()) +
-                  " ranks; run on at most " + std::to_string(grid_.cell_count()) + " ranks");
+                  " ranks; run on at most " + std::to_string(grid.cell_count()) + " ranks");
+    return grid;
+  }
+  // The cut of fluid positions spread over the ranks in any way (collective; each rank passes
+  // its own), by the method UNISPH_DECOMPOSITION names.
+  static comm::Decomposition<D> cut(const comm::Communicator& comm, const comm::CellGrid<D>& grid,
+                                    std::span<const PlanPosition> x) {
+    return decomposition_method() == comm::DecompositionMethod::morton ? comm::decompose_morton<D>(comm, grid, x)
+                                                                       : comm::decompose_bisection<D>(comm, grid, x);
+  }
+  // Takes a cut made before the particles were (a case made in shares: each rank made the
+  // particles of its own cells only), on this share's grid.
+  void adopt(comm::Decomposition<D> cut) {
+    decomposition_ = std::move(cut);
+    ++decompositions_;
   }
 
   // The transport between ranks: UNISPH_TRANSPORT (host_staged, nccl, cuda_aware_mpi) where
@@ -133,10 +154,7 @@ class RankShare {
   // Collective: cuts the domain anew with the fluid's owned particles as weights.
   void decompose(Body<T, D>& fluid) {
     const std::vector<PlanPosition> x = plan_positions(fluid);
-    decomposition_ = method_ == comm::DecompositionMethod::morton
-                         ? comm::decompose_morton<D>(comm_, grid_, std::span<const PlanPosition>(x))
-                         : comm::decompose_bisection<D>(comm_, grid_, std::span<const PlanPosition>(x));
-    ++decompositions_;
+    adopt(cut(comm_, grid_, std::span<const PlanPosition>(x)));
   }
   // Collective: true when the owned fluid counts have drifted apart by more than the rebalance
   // fraction: max / mean above 1 + fraction, and above (1 + fraction) times what the last cut

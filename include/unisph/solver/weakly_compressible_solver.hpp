@@ -106,6 +106,9 @@ class WeaklyCompressibleSolver {
   // was cut anew (0 on one rank).
   std::uint64_t particles_migrated() const;
   std::uint64_t rebalances() const;
+  // Several ranks: whether each rank made only its own particles at the start (a tank case;
+  // otherwise every rank made the whole case and kept its share).
+  bool made_in_shares() const;
   // Several ranks: the transport between them (host_staged, nccl, ...); empty on one rank.
   std::string transport() const;
   // Several ranks: this rank's wall time in building the migration and halo plans and in

@@ -3,6 +3,8 @@
 // files (src/solver/), which nvcc compiles where CUDA is on.
 #include <algorithm>
 #include <chrono>
+#include <optional>
+#include <span>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -213,7 +215,90 @@ struct WeaklyCompressibleSolver<T, D>::State {
   static Box<T, D> search_box_of(const std::unique_ptr<PeriodicImages<T, D>>& images, const Box<T, D>& domain) {
     return images ? images->search_box() : domain;
   }
-  static TankParticles<T, D> particles_of(const CaseDescription& c, PolicyKind kind) {
+  // On several ranks a tank case (the short form, without obstacle files, and without initial
+  // velocities kept through a settling stage) is made in shares: the domain is cut before the
+  // particles are made, and each rank makes only the particles of its own cells, with the ids
+  // the whole case gives them (TankLattice), so that no rank holds the whole case. Other cases
+  // are made whole on every rank and each keeps its share (take_shares).
+  static bool made_in_shares(const CaseDescription& c, const comm::Communicator* comm) {
+    return comm && comm->size() > 1 && !c.general() && c.obstacles.empty() &&
+           !(c.initial_fluid_state && c.settling_time > 0);
+  }
+  // The cut of a case made in shares: the fluid lattice's layers (along its last axis) spread
+  // evenly over the ranks, each rank passing its own to the collective cut, which so sees
+  // every fluid particle once: the cut the whole case gives.
+  static std::optional<comm::Decomposition<D>> initial_cut_of(const CaseDescription& c, const comm::Communicator* comm,
+                                                              const WendlandC2Kernel<T, D>& kernel) {
+    if (!made_in_shares(c, comm)) return std::nullopt;
+    const TankLattice<D> lattice(c.tank, c.column, c.dx);
+    const long layers = lattice.fluid_layers();
+    const long first = layers * comm->rank() / comm->size(), last = layers * (comm->rank() + 1) / comm->size();
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    double lower[3] = {-inf, -inf, -inf}, upper[3] = {inf, inf, inf};
+    lower[D - 1] = double(first) * c.dx;  // layer k lies at (k + 1/2) dx
+    upper[D - 1] = double(last) * c.dx;
+    std::vector<Vec<Real, D>> x;
+    x.reserve(std::size_t(lattice.fluid_count() / std::uint64_t(std::max<long>(1, layers)) * std::uint64_t(last - first)));
+    lattice.fluid_within(lower, upper, [&](std::uint64_t, const double* q) {
+      Vec<Real, D> y;
+      for (int a = 0; a < D; ++a) y[a] = Real(T(q[a]));  // as the particle's T position is cut later
+      x.push_back(y);
+    });
+    const comm::CellGrid<D> grid = RankShare<T, D>::grid_of(*comm, domain_of(c), kernel.cutoff(), kernel.h);
+    return RankShare<T, D>::cut(*comm, grid, std::span<const Vec<Real, D>>(x));
+  }
+  // This rank's particles of a case made in shares: those of the lattice within the bounding
+  // box of its cells that lie in its cells, in id order.
+  static TankParticles<T, D> share_of(const CaseDescription& c, const comm::Decomposition<D>& cut, int rank) {
+    const TankLattice<D> lattice(c.tank, c.column, c.dx);
+    const comm::CellGrid<D>& grid = cut.grid();
+    const comm::DecompositionView<D> owners = cut.view(seq);
+    Vec<int, D> first = grid.cells, last{};
+    Vec<int, D> cell{};
+    for (std::uint64_t n = 0; n < grid.cell_count(); ++n) {
+      std::uint64_t rest = n;
+      for (int a = 0; a < D; ++a) cell[a] = int(rest % std::uint64_t(grid.cells[a])), rest /= std::uint64_t(grid.cells[a]);
+      if (owners.owner_of_cell(cell) != rank) continue;
+      for (int a = 0; a < D; ++a) first[a] = std::min(first[a], cell[a]), last[a] = std::max(last[a], cell[a] + 1);
+    }
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    double lower[3] = {-inf, -inf, -inf}, upper[3] = {inf, inf, inf};
+    bool none = false;
+    for (int a = 0; a < D; ++a) {
+      none = none || first[a] >= last[a];
+      // A cell's faces widened by a little: the owner decides below (edge cells take what lies beyond).
+      const double margin = 1e-6 * double(grid.cell_size[a]);
+      if (first[a] > 0) lower[a] = double(grid.box.lower[a]) + first[a] * double(grid.cell_size[a]) - margin;
+      if (last[a] < grid.cells[a]) upper[a] = double(grid.box.lower[a]) + last[a] * double(grid.cell_size[a]) + margin;
+    }
+    TankParticles<T, D> p;
+    p.fluid_whole = lattice.fluid_count();
+    p.wall_whole = lattice.wall_count();
+    if (none) return p;
+    const auto mine = [&](const double* q, Vec<T, D>& x) {
+      Vec<Real, D> y;
+      for (int a = 0; a < D; ++a) x[a] = T(q[a]), y[a] = Real(x[a]);
+      return owners.owner(y) == rank;
+    };
+    lattice.fluid_within(lower, upper, [&](std::uint64_t id, const double* q) {
+      Vec<T, D> x{};
+      if (!mine(q, x)) return;
+      p.fluid.push_back(x);
+      p.fluid_numbers.push_back(id);
+    });
+    lattice.walls_within(lower, upper, [&](std::uint64_t id, const double* q, const double* normal) {
+      Vec<T, D> x{}, n{};
+      if (!mine(q, x)) return;
+      for (int a = 0; a < D; ++a) n[a] = T(normal[a]);
+      p.wall.push_back(x);
+      p.wall_normal.push_back(n);
+      p.wall_numbers.push_back(id);
+    });
+    return p;
+  }
+  static TankParticles<T, D> particles_of(const CaseDescription& c, PolicyKind kind, const comm::Communicator* comm,
+                                          const std::optional<comm::Decomposition<D>>& cut) {
+    if (cut) return share_of(c, *cut, comm->rank());
     TankParticles<T, D> p;
     if (c.general()) {
       p = visit_policy(kind, [&](auto policy) { return make_body_particles<T, D>(policy, c); });
@@ -233,7 +318,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
     } else {
       std::size_t obstacles = 0;
       for (std::size_t n : p.obstacle_wall_counts) obstacles += n;
-      groups.push_back({"tank", Index(p.wall.size() - obstacles)});
+      groups.push_back({"tank", Index((p.wall_whole ? p.wall_whole : p.wall.size()) - obstacles)});
       for (std::size_t k = 0; k < p.obstacle_wall_counts.size(); ++k)
         groups.push_back({"obstacle_" + std::to_string(k + 1), Index(p.obstacle_wall_counts[k])});
     }
@@ -286,14 +371,15 @@ struct WeaklyCompressibleSolver<T, D>::State {
       : description(checked(c)),
         policy(kind),
         kernel(WendlandC2Kernel<T, D>::from_spacing(T(c.dx))),
-        particles(particles_of(c, kind)),
+        initial_cut(initial_cut_of(description, comm, kernel)),
+        particles(particles_of(description, kind, comm, initial_cut)),
         wall_groups(wall_groups_of(c, particles)),
         obstacle_counts(particles.obstacle_wall_counts.begin(), particles.obstacle_wall_counts.end()),
         removed_fluid(particles.removed_fluid),
         relaxed(particles.relaxed),
         domain(domain_of(c)),
-        fluid_body("Water", domain, particles.fluid.size()),
-        wall_body("Wall", domain, particles.wall.size()),
+        fluid_body("Water", domain, particles.fluid.size(), 0, 0, {particles.fluid_whole, particles.fluid_numbers}),
+        wall_body("Wall", domain, particles.wall.size(), 0, 0, {particles.wall_whole, particles.wall_numbers}),
         fluid(fluid_body),
         wall(wall_body),
         fluid_images(images_of(c, fluid_body, domain, kernel.cutoff())),
@@ -335,7 +421,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
     // lists' contiguous path where a set has no ghosts.
     fluid_cells.order_within_cells_by_id(fluid_body.particles());
     wall_cells.order_within_cells_by_id(wall_body.particles());
-    if (particles.fluid.empty())
+    if (particles.fluid.empty() && particles.fluid_whole == 0)
       throw Error("case '" + c.name + "': the fluid holds no particle at dx = " + std::to_string(c.dx) +
                   (removed_fluid ? " (the obstacles took all " + std::to_string(removed_fluid) + ")" : std::string()));
     for (const ProbeDescription& p : c.probes) {
@@ -670,7 +756,8 @@ struct WeaklyCompressibleSolver<T, D>::State {
     visit_policy(policy, [&](auto p) {
       place_walls(p, 0.0);
       if (share) {
-        // Every rank made the whole case (the same particles and ids); each keeps its share.
+        // Each rank made its share (made_in_shares), or the whole case (the same particles and
+        // ids on every rank) and keeps its share.
         take_shares(p);
         return;
       }
@@ -686,11 +773,17 @@ struct WeaklyCompressibleSolver<T, D>::State {
   // their ghosts and build the neighbour structures.
   template <class P>
   void take_shares(P p) {
-    share->decompose(fluid_body);
-    // On the host, where the particles were made or restored: a device then takes memory for
-    // this rank's share only (its copies are allocated at their first access, after this).
-    share->keep_owned(par, fluid_body);
-    share->keep_owned(par, wall_body);
+    if (initial_cut) {
+      // Made in shares: the cut the particles were made for.
+      share->adopt(std::move(*initial_cut));
+      initial_cut.reset();
+    } else {
+      share->decompose(fluid_body);
+      // On the host, where the particles were made or restored: a device then takes memory for
+      // this rank's share only (its copies are allocated at their first access, after this).
+      share->keep_owned(par, fluid_body);
+      share->keep_owned(par, wall_body);
+    }
     wall_sorter.sort(p);
     share->gather(p, wall_body, wall_halo);
     wall_cells.build(p);
@@ -1310,6 +1403,9 @@ struct WeaklyCompressibleSolver<T, D>::State {
   CaseDescription description;
   PolicyKind policy;
   WendlandC2Kernel<T, D> kernel;
+  // A case made in shares (made_in_shares): the cut its particles were made for, until the
+  // rank share adopts it.
+  std::optional<comm::Decomposition<D>> initial_cut;
   TankParticles<T, D> particles;
   std::vector<WallBodyCount> wall_groups;  // each wall body's particles, in the order of their ids
   std::vector<Index> obstacle_counts;  // wall particles of each obstacle (after the tank's)
@@ -1463,6 +1559,10 @@ typename WeaklyCompressibleSolver<T, D>::RankBalance WeaklyCompressibleSolver<T,
 template <class T, int D>
 std::uint64_t WeaklyCompressibleSolver<T, D>::rebalances() const {
   return state_->share ? state_->share->rebalances() : 0;
+}
+template <class T, int D>
+bool WeaklyCompressibleSolver<T, D>::made_in_shares() const {
+  return state_->share && State::made_in_shares(state_->description, &state_->share->comm());
 }
 template <class T, int D>
 Index WeaklyCompressibleSolver<T, D>::wall_count() const { return state_->wall.size(); }

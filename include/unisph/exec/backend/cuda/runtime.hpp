@@ -9,7 +9,9 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <string_view>
+#include <vector>
 
 namespace unisph {
 struct ExecutionInfo;
@@ -32,6 +34,17 @@ int multiprocessor_count();
 
 void* allocate(std::size_t bytes, std::string_view what);
 void deallocate(void* ptr) noexcept;
+
+// What allocate() holds now, by what it served (a variable's name, a scratch's user), and
+// the most it held at once: device_memory_use() (exec/policy.hpp).
+struct AllocationGroup {
+  std::string what;
+  std::uint64_t bytes = 0;
+  std::uint64_t count = 0;
+};
+std::vector<AllocationGroup> live_allocations();
+std::uint64_t allocated_bytes();
+std::uint64_t allocated_peak_bytes();
 
 // Host -> device. Asynchronous with respect to the host where CUDA allows it.
 void copy_to_device(void* dst, const void* src, std::size_t bytes, std::string_view what);
