@@ -423,7 +423,7 @@ class CellLinkedList {
   template <ExecutionPolicy P>
   void sort_by_id(P policy, Index n, View<unsigned long long> counters) {
     ParticleSet& set = *id_set_;
-    const std::uint64_t id_count = set.index_of_id().size();
+    const std::uint64_t id_count = set.id_count();
     int id_bits = 0;
     while (id_bits < 64 && (std::uint64_t(1) << id_bits) <= id_count) ++id_bits;  // id_count itself fits
     int bucket_bits = 0;

@@ -89,7 +89,7 @@ class ParticleSorter {
       key_bits_ += 1;
     }
     if (order == SortOrder::cell_index_then_id) {
-      id_count_ = particles.index_of_id().size();  // ids lie in [first_id, first_id + id_count)
+      id_count_ = particles.id_count();  // ids lie in [first_id, first_id + id_count)
       while (id_bits_ < 64 && (std::uint64_t(1) << id_bits_) <= id_count_) ++id_bits_;
       if (key_bits_ + id_bits_ > 64)
         throw Error("ParticleSorter of '" + particles.name() + "': " + std::to_string(grid.cell_count()) + " cells and " +

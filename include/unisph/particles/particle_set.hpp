@@ -62,7 +62,8 @@ class ParticleSet {
         ghosts_(ghost_count),
         first_id_(first_id),
         variables_("particle set '" + name_ + "'", owned_count + ghost_count),
-        index_of_id_(name_ + ".IndexOfId", share.whole ? Index(share.whole) : owned_count),
+        id_count_(share.whole ? share.whole : owned_count),
+        index_of_id_(name_ + ".IndexOfId", Index(id_count_)),
         scratch_(name_ + ".ReorderScratch") {
     if (owned_count >= Index(std::numeric_limits<std::uint32_t>::max()) ||
         share.whole >= std::uint64_t(std::numeric_limits<std::uint32_t>::max()))
@@ -112,6 +113,15 @@ class ParticleSet {
 
   DiscreteVariable<std::uint64_t>& ids() { return variables_.get(particle_id_tag); }
   DiscreteVariable<std::uint32_t>& index_of_id() { return index_of_id_; }
+  // The ids lie in [first_id, first_id + id_count()): the size of the set as made (whole).
+  std::uint64_t id_count() const { return id_count_; }
+  // Stops keeping index_of_id() (it becomes empty): a set split among ranks has ids over the
+  // whole set, so the map would take 4 bytes per particle of the whole set on every rank, and
+  // nothing there looks particles up by id.
+  void drop_index_of_id() {
+    map_ids_ = false;
+    index_of_id_.resize(0);
+  }
 
   // Makes room for `count` ghosts after the owned particles (their contents are the caller's
   // to fill: a halo exchange writes every ghost slot).
@@ -131,9 +141,7 @@ class ParticleSet {
     if (ghosts_ != 0) throw Error("particle set '" + name_ + "': shrink_owned needs a set without ghosts");
     owned_ = count;
     variables_.resize(owned_);
-    particle_for(policy, index_of_id_.size(), particle_set_detail::FillIndex{index_of_id_.write(policy), absent_particle_index});
-    particle_for(policy, owned_,
-                 particle_set_detail::MapIdsToIndices{ids().read(policy), first_id_, index_of_id_.read_write(policy)});
+    map_ids(policy, true);
   }
 
   // Takes `count` owned particles and no ghosts after the registry was resized to `count` from
@@ -148,9 +156,7 @@ class ParticleSet {
                   std::to_string(variables_.size()) + " particles");
     owned_ = count;
     ghosts_ = 0;
-    particle_for(policy, index_of_id_.size(), particle_set_detail::FillIndex{index_of_id_.write(policy), absent_particle_index});
-    particle_for(policy, owned_,
-                 particle_set_detail::MapIdsToIndices{ids().read(policy), first_id_, index_of_id_.read_write(policy)});
+    map_ids(policy, true);
   }
 
   // Moves owned particle permutation[k] to index k, for every sortable variable, and
@@ -171,16 +177,30 @@ class ParticleSet {
       gather_by_permutation(policy, permutation, data, tmp, v.element_size());
       copy_bytes(policy, tmp, data, bytes);
     });
-    particle_for(policy, owned_,
-                 particle_set_detail::MapIdsToIndices{ids().read(policy), first_id_, index_of_id_.write(policy)});
+    map_ids(policy, false);
   }
 
  private:
+  // index_of_id() from the owned particles' ids (all entries cleared first where some ids may
+  // have left), unless dropped.
+  template <ExecutionPolicy P>
+  void map_ids(P policy, bool clear) {
+    if (!map_ids_) return;
+    if (clear)
+      particle_for(policy, index_of_id_.size(),
+                   particle_set_detail::FillIndex{index_of_id_.write(policy), absent_particle_index});
+    particle_for(policy, owned_,
+                 particle_set_detail::MapIdsToIndices{ids().read(policy), first_id_,
+                                                      clear ? index_of_id_.read_write(policy) : index_of_id_.write(policy)});
+  }
+
   std::string name_;
   Index owned_;
   Index ghosts_;
   std::uint64_t first_id_;
   VariableRegistry variables_;
+  std::uint64_t id_count_;
+  bool map_ids_ = true;
   DiscreteVariable<std::uint32_t> index_of_id_;
   DiscreteVariable<std::uint32_t> scratch_;
 };

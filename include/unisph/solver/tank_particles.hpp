@@ -113,12 +113,17 @@ class TankLattice {
       for (std::size_t i = 0; i < wall_[a].size(); ++i)
         if (a >= D || (wall_[a][i] >= lower[a] && wall_[a][i] < upper[a])) index[a].push_back(i);
     const std::size_t n0 = wall_[0].size();
+    // A row inside the tank holds only its ends' wall layers: index[0] less its middle part.
+    const auto middle_begin = std::lower_bound(index[0].begin(), index[0].end(), std::size_t(wall_layers));
+    const auto middle_end = std::lower_bound(index[0].begin(), index[0].end(), n0 - wall_layers);
     for (std::size_t c : index[2])
       for (std::size_t b : index[1]) {
         const bool full_row = is_wall(2, c) || is_wall(1, b);
         const std::uint64_t row = layers_before(c) + rows_before(c, b);
-        for (std::size_t a : index[0]) {
-          if (!full_row && !is_wall(0, a)) continue;
+        for (auto at = index[0].begin(); at != index[0].end(); ++at) {
+          if (!full_row && at == middle_begin) at = middle_end;
+          if (at == index[0].end()) break;
+          const std::size_t a = *at;
           const std::uint64_t within = full_row || a < std::size_t(wall_layers) ? a : wall_layers + (a - (n0 - wall_layers));
           const double p[3] = {wall_[0][a], wall_[1][b], wall_[2][c]};
           double normal[3] = {0, 0, 0}, length = 0;

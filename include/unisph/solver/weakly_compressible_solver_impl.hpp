@@ -478,6 +478,9 @@ struct WeaklyCompressibleSolver<T, D>::State {
       // them; the images' object only wraps the fluid into the box (and gave the cells' box).
       rank_wrap = std::move(fluid_images);
       wall_images.reset();
+      // Nothing on several ranks looks a particle up by id: no map over the whole set's ids.
+      fluid_body.particles().drop_index_of_id();
+      wall_body.particles().drop_index_of_id();
     }
     initialise();
     if (settle_now) settle();
@@ -1194,7 +1197,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
     if (name != body.name()) in.fail("holds body '" + name + "' where '" + body.name() + "' was expected");
     const std::uint64_t owned = in.u64();
     // Fluid particles may have left the domain since the start: fewer, never more.
-    const std::uint64_t made = set.index_of_id().size();
+    const std::uint64_t made = set.id_count();
     if (owned > made || (owned != made && name != "Water"))
       in.fail("holds " + std::to_string(owned) + " particles of '" + name + "'; this case has " + std::to_string(made));
     if (in.u64() != set.first_id()) in.fail("holds other particle ids for '" + name + "'");
