@@ -32,6 +32,7 @@
 #include "unisph/core/error.hpp"
 #include "unisph/core/morton_key.hpp"
 #include "unisph/core/vector.hpp"
+#include "unisph/exec/algorithms.hpp"
 #include "unisph/memory/discrete_variable.hpp"
 
 namespace unisph::comm {
@@ -144,6 +145,57 @@ struct DecompositionView {
   }
 };
 
+namespace decomposition_detail {
+template <int D>
+Vec<int, D> cell_of_index(const CellGrid<D>& grid, std::uint64_t k) {
+  Vec<int, D> c;
+  for (int a = 0; a < D; ++a) {
+    c[a] = static_cast<int>(k % std::uint64_t(grid.cells[a]));
+    k /= std::uint64_t(grid.cells[a]);
+  }
+  return c;
+}
+template <int D>
+struct CellOwners {
+  DecompositionView<D> decomposition;
+  View<std::int32_t> owner;
+  void operator()(Index k) const { owner[k] = decomposition.owner_of_cell(cell_of_index<D>(decomposition.grid, k)); }
+};
+template <int D>
+struct InteriorCells {
+  CellGrid<D> grid;
+  View<const std::int32_t> owner;
+  View<std::uint8_t> interior;
+  void operator()(Index k) const {
+    const Vec<int, D> c = cell_of_index<D>(grid, k);
+    int offsets = 1;
+    for (int a = 0; a < D; ++a) offsets *= 3;
+    for (int o = 0; o < offsets; ++o) {
+      std::uint64_t m = 0;
+      for (int a = D - 1, code = o; a >= 0; --a) {
+        int power = 1;
+        for (int b = 0; b < a; ++b) power *= 3;
+        const int na = c[a] + (code / power) % 3 - 1;
+        if (na < 0 || na >= grid.cells[a]) {
+          // Beyond the grid: no neighbour there, except across a periodic face (another cell).
+          if (grid.periodic[a]) {
+            interior[k] = 0;
+            return;
+          }
+          m = ~std::uint64_t(0);
+          break;
+        }
+        m = m * std::uint64_t(grid.cells[a]) + std::uint64_t(na);
+      }
+      if (m != ~std::uint64_t(0) && owner[Index(m)] != owner[k]) {
+        interior[k] = 0;
+        return;
+      }
+    }
+  }
+};
+}  // namespace decomposition_detail
+
 template <int D>
 class Decomposition {
  public:
@@ -221,47 +273,21 @@ class Decomposition {
     tables_->boxes.assign(boxes_);
     tables_->interior.assign(interior_);
   }
+  // interior_[k] = 1 where cell k and all its 3^D neighbours are one rank's (so a particle
+  // there sends no ghost: the halo's kernels skip it). Kept up to 2^30 cells (a byte each; a
+  // grid of 10^8 cells is a 10^9-particle case's); larger grids check every particle's
+  // neighbour cells. Built by host kernels over the cells (par: oneTBB where the build has it).
   void tabulate_interior() {
     const std::uint64_t n = grid_.cell_count();
-    if (n > (std::uint64_t(1) << 26)) return;
-    std::vector<int> owner(n);
-    const auto cell_of_index = [&](std::uint64_t k) {
-      Vec<int, D> c;
-      for (int a = 0; a < D; ++a) {
-        c[a] = static_cast<int>(k % std::uint64_t(grid_.cells[a]));
-        k /= std::uint64_t(grid_.cells[a]);
-      }
-      return c;
-    };
-    for (std::uint64_t k = 0; k < n; ++k) owner[k] = owner_of_cell(cell_of_index(k));
+    if (n > (std::uint64_t(1) << 30)) return;
+    std::vector<std::int32_t> owner(n);
     interior_.assign(n, 1);
-    int offsets = 1;
-    for (int a = 0; a < D; ++a) offsets *= 3;
-    for (std::uint64_t k = 0; k < n; ++k) {
-      const Vec<int, D> c = cell_of_index(k);
-      for (int o = 0; o < offsets && interior_[k]; ++o) {
-        std::uint64_t m = 0;
-        bool inside = true;
-        for (int a = D - 1, code = o; a >= 0; --a) {
-          const int digit = (code / power3(a)) % 3;
-          const int na = c[a] + digit - 1;
-          if (na < 0 || na >= grid_.cells[a]) {
-            inside = false;
-            if (grid_.periodic[a]) interior_[k] = 0;  // a neighbour across a periodic face
-            break;
-          }
-          m = m * std::uint64_t(grid_.cells[a]) + std::uint64_t(na);
-        }
-        if (inside && owner[m] != owner[k]) interior_[k] = 0;
-      }
-    }
+    const DecompositionView<D> view = host_view();
+    particle_for(par, Index(n), decomposition_detail::CellOwners<D>{view, View<std::int32_t>(owner.data(), owner.size())});
+    particle_for(par, Index(n),
+                 decomposition_detail::InteriorCells<D>{grid_, View<const std::int32_t>(owner.data(), owner.size()),
+                                                        View<std::uint8_t>(interior_.data(), interior_.size())});
   }
-  static int power3(int a) {
-    int p = 1;
-    for (int k = 0; k < a; ++k) p *= 3;
-    return p;
-  }
-
   CellGrid<D> grid_{};
   DecompositionMethod method_ = DecompositionMethod::morton;
   int ranks_ = 1;

@@ -153,10 +153,13 @@ class Halo {
 
   // Collective. `positions`: the owned particles' positions in the policy's memory (float or
   // double).
+  // `scratch`: the storage of the plan-building kernels, which the caller may share among halos
+  // and migrations built one after another (it is not needed between builds); null: the
+  // halo's own.
   template <ExecutionPolicy P, class PS>
   Halo(P policy, const Communicator& comm, const Decomposition<D>& decomposition, View<const Vec<PS, D>> positions,
-       Real cutoff)
-      : plan_(build_plan(policy, comm, decomposition, positions, cutoff)) {}
+       Real cutoff, PlanScratch* scratch = nullptr)
+      : shared_(scratch), plan_(build_plan(policy, comm, decomposition, positions, cutoff)) {}
   // The same from positions on the host.
   Halo(const Communicator& comm, const Decomposition<D>& decomposition, View<const PlanPosition> positions, Real cutoff)
       : Halo(SequencedPolicy{}, comm, decomposition, positions, cutoff) {}
@@ -255,14 +258,14 @@ class Halo {
     const DecompositionView<D> view = d.view(policy);
     // Count, place, write.
     halo_detail::HaloTargets<D, PS, S> targets{view, positions, cutoff * cutoff, comm.rank(),
-                                                PlanScratch::room(policy, work_.counts, n), {}, {}, {}, {}, {}};
+                                                PlanScratch::room(policy, work().counts, n), {}, {}, {}, {}, {}};
     particle_for(policy, n, targets);
-    const View<std::uint32_t> offsets = PlanScratch::room(policy, work_.offsets, n + 1);
+    const View<std::uint32_t> offsets = PlanScratch::room(policy, work().offsets, n + 1);
     exclusive_scan(policy, View<const std::uint32_t>(targets.counts), offsets);
-    const Index items = work_.element(policy, View<const std::uint32_t>(offsets), n);
+    const Index items = work().element(policy, View<const std::uint32_t>(offsets), n);
     targets.offsets = offsets;
-    targets.key = PlanScratch::room(policy, work_.keys, items);
-    targets.item = PlanScratch::room(policy, work_.values, items);
+    targets.key = PlanScratch::room(policy, work().keys, items);
+    targets.item = PlanScratch::room(policy, work().values, items);
     targets.source = PlanScratch::room(policy, source_, items);
     targets.shift = PlanScratch::room(policy, slot_shift_, items);
     particle_for(policy, n, targets);
@@ -271,7 +274,7 @@ class Halo {
     int bits = 1;
     while ((1 << bits) < p) ++bits;
     sort_pairs(policy, targets.key, targets.item, 0, bits);
-    const std::vector<std::uint64_t> starts = work_.bin_starts(policy, View<const std::uint32_t>(targets.key), Index(p));
+    const std::vector<std::uint64_t> starts = work().bin_starts(policy, View<const std::uint32_t>(targets.key), Index(p));
     std::vector<std::uint64_t> counts(std::size_t(p), 0);
     for (int r = 0; r < p; ++r)
       counts[std::size_t(r)] = starts[std::size_t(r) + 1] - starts[std::size_t(r)];
@@ -283,9 +286,12 @@ class Halo {
     });
   }
 
+  PlanScratch& work() { return shared_ ? *shared_ : own_; }
+
   // Before plan_: build_plan fills them while plan_ is made.
+  PlanScratch* shared_ = nullptr;
   Index source_count_ = 0;
-  PlanScratch work_;
+  PlanScratch own_;
   DiscreteVariable<std::uint32_t> source_{"Halo.Source"};
   DiscreteVariable<Position> slot_shift_{"Halo.SlotShift"};
   DiscreteVariable<Position> shift_{"Halo.Shift"};  // per send item

@@ -226,7 +226,7 @@ class RankShare {
     if (halo)
       halo->build(policy, comm_, decomposition_, owned_positions(policy, body), Real(width_));
     else
-      halo = std::make_unique<Halo>(policy, comm_, decomposition_, owned_positions(policy, body), Real(width_));
+      halo = std::make_unique<Halo>(policy, comm_, decomposition_, owned_positions(policy, body), Real(width_), &work_);
     const auto t1 = now(policy);
     halo->gather(policy, *transport_, set, body.positions().name());
     const auto t2 = now(policy);
