@@ -69,6 +69,34 @@ TYPED_TEST(ParticleSetReorder, ReorderMovesSortableVariablesWithTheirIds) {
   EXPECT_EQ(wrong, 0u);
 }
 
+// A set made in shares (each rank its own particles of one whole set): the given particle
+// numbers become ids, index_of_id() spans the whole set with the others absent; a set that
+// drops the map keeps its ids through a reorder, and its id range.
+TYPED_TEST(ParticleSetReorder, ShareOfAWholeSetKeepsItsNumbersAsIds) {
+  const std::vector<std::uint64_t> numbers = {2, 5, 7, 8};
+  ParticleSet share("Water", Index(numbers.size()), 0, 100, SetShare{10, numbers});
+  EXPECT_EQ(share.id_count(), 10u);
+  EXPECT_EQ(share.ids().to_vector(), (std::vector<std::uint64_t>{102, 105, 107, 108}));
+  const std::vector<std::uint32_t> map = share.index_of_id().to_vector();
+  ASSERT_EQ(map.size(), 10u);
+  for (std::uint64_t k = 0; k < 10; ++k) {
+    const auto at = std::find(numbers.begin(), numbers.end(), k);
+    EXPECT_EQ(map[k], at == numbers.end() ? absent_particle_index : std::uint32_t(at - numbers.begin()));
+  }
+  DiscreteVariable<std::uint32_t> p("perm");
+  p.assign(std::vector<std::uint32_t>{3, 1, 0, 2});
+  share.reorder(this->policy, p.read(this->policy));
+  EXPECT_EQ(share.index_of_id().to_vector()[8], 0u);  // number 8 moved to the front
+  share.drop_index_of_id();
+  EXPECT_EQ(share.index_of_id().size(), 0u);
+  share.reorder(this->policy, p.read(this->policy));
+  EXPECT_EQ(share.ids().to_vector(), (std::vector<std::uint64_t>{107, 105, 108, 102}));
+  EXPECT_EQ(share.id_count(), 10u);
+  EXPECT_THROW(ParticleSet("Bad", 2, 0, 0, SetShare{10, numbers}), Error);  // 4 numbers for 2 particles
+  const std::vector<std::uint64_t> beyond = {3, 10};
+  EXPECT_THROW(ParticleSet("Bad", 2, 0, 0, SetShare{10, beyond}), Error);  // number 10 of a set of 10
+}
+
 TYPED_TEST(ParticleSetReorder, WrongPermutationSizeIsAnError) {
   ParticleSet set("Water", 10);
   DiscreteVariable<std::uint32_t> p("perm", 9);
