@@ -252,13 +252,19 @@ struct WeaklyCompressibleSolver<T, D>::State {
   static TankParticles<T, D> share_of(const CaseDescription& c, const comm::Decomposition<D>& cut, int rank) {
     const TankLattice<D> lattice(c.tank, c.column, c.dx);
     const comm::CellGrid<D>& grid = cut.grid();
-    const comm::DecompositionView<D> owners = cut.view(seq);
+    // Each cell's owner once (host kernels): a lattice point's owner is then its cell's entry.
+    std::vector<std::int32_t> owner(grid.cell_count());
+    particle_for(par, Index(owner.size()),
+                 comm::decomposition_detail::CellOwners<D>{cut.view(seq), View<std::int32_t>(owner.data(), owner.size())});
+    const auto index_of = [&](const Vec<int, D>& cell) {
+      std::uint64_t k = 0;
+      for (int a = D - 1; a >= 0; --a) k = k * std::uint64_t(grid.cells[a]) + std::uint64_t(cell[a]);
+      return k;
+    };
     Vec<int, D> first = grid.cells, last{};
-    Vec<int, D> cell{};
-    for (std::uint64_t n = 0; n < grid.cell_count(); ++n) {
-      std::uint64_t rest = n;
-      for (int a = 0; a < D; ++a) cell[a] = int(rest % std::uint64_t(grid.cells[a])), rest /= std::uint64_t(grid.cells[a]);
-      if (owners.owner_of_cell(cell) != rank) continue;
+    for (std::uint64_t n = 0; n < owner.size(); ++n) {
+      if (owner[n] != rank) continue;
+      const Vec<int, D> cell = comm::decomposition_detail::cell_of_index<D>(grid, n);
       for (int a = 0; a < D; ++a) first[a] = std::min(first[a], cell[a]), last[a] = std::max(last[a], cell[a] + 1);
     }
     constexpr double inf = std::numeric_limits<double>::infinity();
@@ -278,7 +284,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
     const auto mine = [&](const double* q, Vec<T, D>& x) {
       Vec<Real, D> y;
       for (int a = 0; a < D; ++a) x[a] = T(q[a]), y[a] = Real(x[a]);
-      return owners.owner(y) == rank;
+      return owner[index_of(grid.cell_of(y))] == rank;
     };
     lattice.fluid_within(lower, upper, [&](std::uint64_t id, const double* q) {
       Vec<T, D> x{};
