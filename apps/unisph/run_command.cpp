@@ -1,5 +1,6 @@
 // `unisph run CASE.toml`: runs a free-surface case with the weakly compressible SPH solver and
 // writes a ParaView collection, observer series and a log into the output folder.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -359,6 +360,8 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
   sample_device_memory();
   const std::vector<double> rank_device_bytes = world.allgather(double(free_before - least_free));
   const DeviceMemoryUse memory_use = on_device ? device_memory_use() : DeviceMemoryUse{};
+  const std::vector<double> rank_making = world.allgather(solver.setup_seconds().first);
+  const std::vector<double> rank_placing = world.allgather(solver.setup_seconds().second);
   const std::vector<double> rank_allocated_peak = world.allgather(double(memory_use.peak_bytes));
   const std::vector<std::uint64_t> rank_fluid = world.allgather(std::uint64_t(solver.fluid_count()));
   const std::vector<std::uint64_t> rank_wall = world.allgather(std::uint64_t(solver.wall_count()));
@@ -470,7 +473,9 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
                           std::to_string(first_acoustic_step) + ")"
                     : std::string())
       << "\nwall time setting up (making the case, settling, cutting it among ranks, the first output): "
-      << setup_seconds << " s (the first output " << first_output_seconds << " s of it)"
+      << setup_seconds << " s (making the particles " << *std::max_element(rank_making.begin(), rank_making.end())
+      << " s, placing them " << *std::max_element(rank_placing.begin(), rank_placing.end()) << " s"
+      << (ranks ? ", the slowest rank's" : "") << "; the first output " << first_output_seconds << " s)"
       << "\nwall time (time loop, output included): " << loop_seconds << " s"
       << "\nwall time (total): " << total_seconds << " s"
       << "\nwall time writing snapshots in the time loop: " << snapshot_seconds << " s"

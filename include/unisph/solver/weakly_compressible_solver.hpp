@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "unisph/comm/communicator.hpp"
@@ -109,6 +110,11 @@ class WeaklyCompressibleSolver {
   // Several ranks: whether each rank made only its own particles at the start (a tank case;
   // otherwise every rank made the whole case and kept its share).
   bool made_in_shares() const;
+  // This rank's set-up wall time: making the particles and the structures over them (on
+  // several ranks also the transport's start, and a case made in shares' cut), then placing
+  // them (filling their variables; on several ranks cutting a case made whole and keeping the
+  // shares, sorting and the first halos). Settling and the first output come after.
+  std::pair<double, double> setup_seconds() const;
   // Several ranks: the transport between them (host_staged, nccl, ...); empty on one rank.
   std::string transport() const;
   // Several ranks: this rank's wall time in building the migration and halo plans and in

@@ -488,7 +488,10 @@ struct WeaklyCompressibleSolver<T, D>::State {
       fluid_body.particles().drop_index_of_id();
       wall_body.particles().drop_index_of_id();
     }
+    const auto made = std::chrono::steady_clock::now();
+    making_seconds = std::chrono::duration<double>(made - constructed_from).count();
     initialise();
+    placing_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - made).count();
     if (settle_now) settle();
   }
 
@@ -1409,9 +1412,15 @@ struct WeaklyCompressibleSolver<T, D>::State {
     if (share) share->comm().combine_owned(values);
   }
 
+  // Before every other member: the set-up's wall time counts from here (making_seconds).
+  std::chrono::steady_clock::time_point constructed_from = std::chrono::steady_clock::now();
   CaseDescription description;
   PolicyKind policy;
   WendlandC2Kernel<T, D> kernel;
+  // The set-up's wall time: making the particles and the solver's structures (host; on several
+  // ranks the transport's start and a share's cut too), then placing them (their variables
+  // filled; on several ranks the cut of a case made whole, the shares, sorts and halos).
+  double making_seconds = 0, placing_seconds = 0;
   // A case made in shares (made_in_shares): the cut its particles were made for, until the
   // rank share adopts it.
   std::optional<comm::Decomposition<D>> initial_cut;
@@ -1568,6 +1577,10 @@ typename WeaklyCompressibleSolver<T, D>::RankBalance WeaklyCompressibleSolver<T,
 template <class T, int D>
 std::uint64_t WeaklyCompressibleSolver<T, D>::rebalances() const {
   return state_->share ? state_->share->rebalances() : 0;
+}
+template <class T, int D>
+std::pair<double, double> WeaklyCompressibleSolver<T, D>::setup_seconds() const {
+  return {state_->making_seconds, state_->placing_seconds};
 }
 template <class T, int D>
 bool WeaklyCompressibleSolver<T, D>::made_in_shares() const {
