@@ -25,12 +25,13 @@ What the files are assumed to hold (the columns issue 22 names; a column not mat
 Numbers as Python's float() reads them ("nan" and "inf" too). Errors are one line naming the file.
 """
 import argparse
-import csv
 import os
 import re
 import sys
 
 import matplotlib
+
+from observer_csv import read_columns
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -39,31 +40,6 @@ import matplotlib.pyplot as plt  # noqa: E402
 def fail(message):
     sys.stderr.write("plot_gauges.py: " + message + "\n")
     sys.exit(1)
-
-
-def read_columns(path):
-    """The columns of a CSV file by name (floats), skipping '#' comment lines."""
-    try:
-        with open(path, newline="") as f:
-            lines = [line for line in f if not line.lstrip().startswith("#") and line.strip()]
-    except OSError as e:
-        fail(f"{path}: cannot read the file ({e.strerror})")
-    if not lines:
-        fail(f"{path}: no header line")
-    reader = csv.reader(lines)
-    header = [name.strip() for name in next(reader)]
-    if "time" not in header:
-        fail(f"{path}: no column 'time' in the header {header}")
-    columns = {name: [] for name in header}
-    for number, row in enumerate(reader, start=2):
-        if len(row) != len(header):
-            fail(f"{path}: data row {number - 1} has {len(row)} fields, the header {len(header)}")
-        for name, field in zip(header, row):
-            try:
-                columns[name].append(float(field))
-            except ValueError:
-                fail(f"{path}: data row {number - 1}, column '{name}': '{field.strip()}' is not a number")
-    return header, columns
 
 
 def plot_gauges(header, columns, still_water, out):
@@ -169,12 +145,12 @@ def main():
     os.makedirs(out, exist_ok=True)
     written = []
     if observers:
-        header, columns = read_columns(observers)
+        header, columns = read_columns(observers, fail)
         written += [plot_gauges(header, columns, args.still_water, out), plot_velocities(header, columns, out)]
         if not any(name.startswith("gauge_") for name in header):
             sys.stderr.write(f"plot_gauges.py: {observers}: no gauge_<name> column\n")
     if loads:
-        header, columns = read_columns(loads)
+        header, columns = read_columns(loads, fail)
         path = plot_loads(header, columns, out)
         if path is None:
             sys.stderr.write(f"plot_gauges.py: {loads}: no <body>_fx/_fy/_fz/_m.. column\n")

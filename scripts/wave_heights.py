@@ -14,28 +14,16 @@ sinusoids over 0.8 .. 1.2 PERIOD, as the flume's validation test does). A window
 the end of the series is an error naming the gauge.
 """
 import argparse
-import csv
 import sys
 
 import numpy as np
+
+from observer_csv import read_columns
 
 
 def fail(message):
     sys.stderr.write("wave_heights.py: " + message + "\n")
     sys.exit(1)
-
-
-def read(path):
-    try:
-        with open(path, newline="") as f:
-            rows = [r for r in csv.reader(f) if r and not r[0].startswith("#")]
-    except OSError as e:
-        fail(f"{path}: {e.strerror}")
-    if len(rows) < 2:
-        fail(f"{path}: no data rows")
-    header = rows[0]
-    data = np.array([[float(v) for v in r] for r in rows[1:]])
-    return header, data
 
 
 def main():
@@ -48,10 +36,8 @@ def main():
     p.add_argument("--ramp-periods", type=float, default=2.0)
     p.add_argument("--periods", type=float, default=5.0)
     a = p.parse_args()
-    header, data = read(a.observers)
-    if "time" not in header:
-        fail(f"{a.observers}: no column 'time'")
-    t = data[:, header.index("time")]
+    header, columns = read_columns(a.observers, fail)
+    t = np.array(columns["time"])
     w = 2 * np.pi / a.period
     print("gauge, x, window, height, % of theory, period, % of the paddle's")
     for spec in a.gauges:
@@ -64,7 +50,7 @@ def main():
         if end > t[-1] + 1e-9:
             fail(f"{a.observers}: gauge {name}'s window {start:.2f} .. {end:.2f} runs past the series' end {t[-1]:.2f}")
         m = (t >= start) & (t <= end)
-        tt, eta = t[m], data[m, header.index(column)]
+        tt, eta = t[m], np.array(columns[column])[m]
         def fit(omega):
             basis = np.column_stack([np.sin(omega * tt), np.cos(omega * tt), np.ones_like(tt)])
             coef, residual = np.linalg.lstsq(basis, eta, rcond=None)[:2]
