@@ -637,7 +637,7 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
 
   const toml::table& fluid = r.table(root, "fluid", true);
   r.only_keys(fluid, "fluid.", {"density", "sound_speed", "reference_velocity", "viscosity", "continuity_dissipation",
-                          "free_surface_density", "density_method", "density_diffusion"});
+                          "free_surface_density", "density_method", "density_diffusion", "kernel_gradient_correction"});
   c.density = r.positive(fluid, "fluid.", "density");
   c.sound_speed = r.positive(fluid, "fluid.", "sound_speed");
   c.reference_velocity = r.positive(fluid, "fluid.", "reference_velocity");
@@ -646,6 +646,12 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
     if (!node->is_boolean())
       r.fail(node, "fluid.continuity_dissipation", std::string("must be true or false (it is a ") + Reader::type_name(*node) + ")");
     c.continuity_dissipation = node->as_boolean()->get();
+  }
+  if (const toml::node* node = fluid.get("kernel_gradient_correction")) {
+    if (!node->is_boolean())
+      r.fail(node, "fluid.kernel_gradient_correction",
+             std::string("must be true or false (it is a ") + Reader::type_name(*node) + ")");
+    c.kernel_gradient_correction = node->as_boolean()->get();
   }
   c.free_surface_density = r.choice(fluid, "fluid.", "free_surface_density", {"reference", "carried", "none"});
   c.density_method = r.choice(fluid, "fluid.", "density_method", {"summation", "continuity"});

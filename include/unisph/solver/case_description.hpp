@@ -161,6 +161,9 @@ struct CaseDescription {
   double reference_velocity = 0;  // U
   double viscosity = 0;           // dynamic viscosity mu
   bool continuity_dissipation = false;  // Riemann velocity dissipation in the continuity equation
+  // The pressure gradient corrected by each particle's kernel moment (CorrectedPressureRelaxation):
+  // right free-surface waves (docs/validation.md); off by default, as the validated dam breaks run.
+  bool kernel_gradient_correction = false;
   // Density summation where the kernel sum falls short (density_summation.hpp): "reference"
   // (max(rho_sum, rho0)) or "carried" (the shortfall from the carried density added back), or
   // "none" (rho_sum as it is: a flow without free surface, such as a periodic box).

@@ -409,6 +409,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
         pressure_start(fluid, eos),
         wall_free(wall_free_of(c, particles, domain, double(kernel.cutoff()))),
         pressure_relaxation(fluid, wall, inner, contact, kernel, riemann, wall_volume, wall_free),
+        corrected_pressure_relaxation(pressure_relaxation),
         velocity_update(fluid),
         density_relaxation(fluid, wall, inner, contact, kernel, riemann, wall_volume, c.continuity_dissipation, wall_free,
                            DensityDiffusion<T, D>::make(T(c.density_diffusion), kernel.h, T(c.sound_speed), T(c.density),
@@ -1020,7 +1021,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
         if (fluid_images) refresh_image_records(p);
         if (share) refresh_ghost_records(p);
         place_walls(p, time + relaxed + 0.5 * dt);  // moving walls at the acoustic step's middle
-        pressure_relaxation.exec(p, Real(dt));
+        relax_pressure(p, Real(dt));
         sample_loads(p, dt);
         const double speed_before = speed;
         speed = global_max(double(velocity_update_and_max_speed.exec(p, Real(dt))));
@@ -1330,9 +1331,17 @@ struct WeaklyCompressibleSolver<T, D>::State {
   void pressure_relaxation_pass() {
     const double dt = last_acoustic_dt > 0 ? last_acoustic_dt : criteria.acoustic_step(0);
     visit_policy(policy, [&](auto p) {
-      pressure_relaxation.exec(p, Real(dt));
+      relax_pressure(p, Real(dt));
       fence(p);
     });
+  }
+  // The momentum equation's pair sums, with the kernel gradient corrected where the case asks.
+  template <class P>
+  void relax_pressure(P p, Real dt) {
+    if (description.kernel_gradient_correction)
+      corrected_pressure_relaxation.exec(p, dt);
+    else
+      pressure_relaxation.exec(p, dt);
   }
 
   ObserverSample observe() {
@@ -1473,6 +1482,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
   PressureRelaxationStart<T, D> pressure_start;
   WallFreeBox<T, D> wall_free;  // of the tank: fluid particles there have no wall neighbour
   PressureRelaxation<T, D> pressure_relaxation;
+  CorrectedPressureRelaxation<T, D> corrected_pressure_relaxation;  // fluid.kernel_gradient_correction
   VelocityUpdate<T, D> velocity_update;
   DensityRelaxation<T, D> density_relaxation;
   DensityUpdate<T, D> density_update;
