@@ -7,6 +7,7 @@
 #include <sstream>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "unisph/core/error.hpp"
 
@@ -22,67 +23,101 @@ std::string text(double v) {
 
 }  // namespace
 
-SinusoidFit fit_sinusoid(std::span<const double> time, std::span<const double> series, double period) {
+std::vector<SinusoidFit> fit_sinusoids(std::span<const double> time, std::span<const double> series,
+                                       std::span<const double> periods) {
   const std::size_t n = time.size();
+  const std::size_t terms = 1 + 2 * periods.size();  // the mean, then cos and sin of each period
+  const std::string name = periods.size() == 1 ? "fit_sinusoid" : "fit_sinusoids";
   if (series.size() != n)
-    throw Error("fit_sinusoid: " + std::to_string(n) + " times but " + std::to_string(series.size()) + " values");
-  if (!(period > 0.0) || !std::isfinite(period))
-    throw Error("fit_sinusoid: the period must be positive and finite (it is " + text(period) + ")");
-  if (n < 3) throw Error("fit_sinusoid: " + std::to_string(n) + " samples; a sinusoid with a mean needs at least 3");
+    throw Error(name + ": " + std::to_string(n) + " times but " + std::to_string(series.size()) + " values");
+  if (periods.empty()) throw Error(name + ": no period given");
+  for (double period : periods)
+    if (!(period > 0.0) || !std::isfinite(period))
+      throw Error(name + ": the period must be positive and finite (it is " + text(period) + ")");
+  if (n < terms)
+    throw Error(name + ": " + std::to_string(n) + " samples; " +
+                (periods.size() == 1 ? std::string("a sinusoid with a mean needs")
+                                     : "a mean and " + std::to_string(periods.size()) + " sinusoids need") +
+                " at least " + std::to_string(terms));
   for (std::size_t i = 0; i < n; ++i)
     if (!std::isfinite(time[i]) || !std::isfinite(series[i]))
-      throw Error("fit_sinusoid: sample " + std::to_string(i) + " is not finite");
-  const double omega = 2.0 * std::numbers::pi / period;
-  // Normal equations of the basis (1, cos ωt, sin ωt): M c = r.
-  double m[3][3] = {}, r[3] = {};
+      throw Error(name + ": sample " + std::to_string(i) + " is not finite");
+  std::vector<double> omega(periods.size());
+  for (std::size_t p = 0; p < periods.size(); ++p) omega[p] = 2.0 * std::numbers::pi / periods[p];
+  const auto basis_at = [&](double t, std::vector<double>& basis) {
+    basis[0] = 1.0;
+    for (std::size_t p = 0; p < periods.size(); ++p) {
+      basis[1 + 2 * p] = std::cos(omega[p] * t);
+      basis[2 + 2 * p] = std::sin(omega[p] * t);
+    }
+  };
+  // Normal equations of the basis (1, cos ω_1 t, sin ω_1 t, ...): M c = r.
+  std::vector<std::vector<double>> m(terms, std::vector<double>(terms, 0.0));
+  std::vector<double> r(terms, 0.0), basis(terms);
   for (std::size_t i = 0; i < n; ++i) {
-    const double basis[3] = {1.0, std::cos(omega * time[i]), std::sin(omega * time[i])};
-    for (int a = 0; a < 3; ++a) {
+    basis_at(time[i], basis);
+    for (std::size_t a = 0; a < terms; ++a) {
       r[a] += basis[a] * series[i];
-      for (int b = 0; b < 3; ++b) m[a][b] += basis[a] * basis[b];
+      for (std::size_t b = 0; b < terms; ++b) m[a][b] += basis[a] * basis[b];
     }
   }
   // Gaussian elimination with partial pivoting; a pivot below 1e-12 of the largest diagonal
-  // entry means the samples do not determine the three coefficients.
-  const double scale = std::max({m[0][0], m[1][1], m[2][2]});
-  int order[3] = {0, 1, 2};
-  for (int col = 0; col < 3; ++col) {
-    int best = col;
-    for (int row = col + 1; row < 3; ++row)
+  // entry means the samples do not determine the coefficients (too short a window for periods
+  // this close, or every sample at the same phase).
+  double scale = 0.0;
+  for (std::size_t a = 0; a < terms; ++a) scale = std::max(scale, m[a][a]);
+  std::vector<std::size_t> order(terms);
+  for (std::size_t a = 0; a < terms; ++a) order[a] = a;
+  for (std::size_t col = 0; col < terms; ++col) {
+    std::size_t best = col;
+    for (std::size_t row = col + 1; row < terms; ++row)
       if (std::abs(m[order[row]][col]) > std::abs(m[order[best]][col])) best = row;
     std::swap(order[col], order[best]);
-    const int p = order[col];
-    if (!(std::abs(m[p][col]) > 1e-12 * scale))
-      throw Error("fit_sinusoid: the " + std::to_string(n) + " samples over [" + text(time[0]) + ", " +
-                  text(time[n - 1]) + "] do not determine a sinusoid of period " + text(period) +
-                  " (too short a window, or every sample at the same phase)");
-    for (int row = col + 1; row < 3; ++row) {
-      const int q = order[row];
+    const std::size_t p = order[col];
+    if (!(std::abs(m[p][col]) > 1e-12 * scale)) {
+      std::string list;
+      for (std::size_t k = 0; k < periods.size(); ++k) list += (k ? ", " : "") + text(periods[k]);
+      throw Error(name + ": the " + std::to_string(n) + " samples over [" + text(time[0]) + ", " + text(time[n - 1]) +
+                  "] do not determine " + (periods.size() == 1 ? "a sinusoid of period " : "sinusoids of periods ") +
+                  list + " (too short a window, or every sample at the same phase)");
+    }
+    for (std::size_t row = col + 1; row < terms; ++row) {
+      const std::size_t q = order[row];
       const double factor = m[q][col] / m[p][col];
-      for (int k = col; k < 3; ++k) m[q][k] -= factor * m[p][k];
+      for (std::size_t k = col; k < terms; ++k) m[q][k] -= factor * m[p][k];
       r[q] -= factor * r[p];
     }
   }
-  double c[3] = {};
-  for (int col = 2; col >= 0; --col) {
-    const int p = order[col];
+  std::vector<double> c(terms, 0.0);
+  for (std::size_t col = terms; col-- > 0;) {
+    const std::size_t p = order[col];
     double v = r[p];
-    for (int k = col + 1; k < 3; ++k) v -= m[p][k] * c[k];
+    for (std::size_t k = col + 1; k < terms; ++k) v -= m[p][k] * c[k];
     c[col] = v / m[p][col];
   }
-  SinusoidFit fit{};
-  fit.mean = c[0];
-  fit.cosine = c[1];
-  fit.sine = c[2];
-  fit.amplitude = std::hypot(c[1], c[2]);
-  fit.phase = std::atan2(c[1], c[2]);
   double squares = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
-    const double e = series[i] - (c[0] + c[1] * std::cos(omega * time[i]) + c[2] * std::sin(omega * time[i]));
+    basis_at(time[i], basis);
+    double fit = c[0];
+    for (std::size_t a = 1; a < terms; ++a) fit += c[a] * basis[a];
+    const double e = series[i] - fit;
     squares += e * e;
   }
-  fit.rms_residual = std::sqrt(squares / double(n));
-  return fit;
+  std::vector<SinusoidFit> fits(periods.size());
+  for (std::size_t p = 0; p < periods.size(); ++p) {
+    SinusoidFit& fit = fits[p];
+    fit.mean = c[0];
+    fit.cosine = c[1 + 2 * p];
+    fit.sine = c[2 + 2 * p];
+    fit.amplitude = std::hypot(fit.cosine, fit.sine);
+    fit.phase = std::atan2(fit.cosine, fit.sine);
+    fit.rms_residual = std::sqrt(squares / double(n));
+  }
+  return fits;
+}
+
+SinusoidFit fit_sinusoid(std::span<const double> time, std::span<const double> series, double period) {
+  return fit_sinusoids(time, series, std::span<const double>(&period, 1)).front();
 }
 
 IncidentReflected<double> two_gauge_reflection(std::span<const double> time, std::span<const double> gauge1,

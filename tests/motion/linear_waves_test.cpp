@@ -259,6 +259,42 @@ TEST(HostWaveAnalysis, TwoGaugesRecoverIncidentAndReflectedWaves) {
   EXPECT_NEAR(two_gauge_reflection(t, p1, p2, period, spacing, depth, g).reflection_coefficient, 0.0, 1e-12);
 }
 
+TEST(HostWaveAnalysis, SinusoidsOfTwoPeriodsAreSeparated) {
+  // A forced response and a free oscillation in one record (the swaying tank's gauges): mean
+  // 0.004, 0.02 sin at the sway's period 3.08 and 0.015 cos + 0.005 sin at 3.70, over 8 periods.
+  const double forced = 3.08, natural = 3.70;
+  const double wf = 2 * pi / forced, wn = 2 * pi / natural;
+  std::vector<double> t, y;
+  for (int i = 0; i < 500; ++i) {
+    const double time = 12.0 + 8 * forced * i / 500.0;
+    t.push_back(time);
+    y.push_back(0.004 + 0.02 * std::sin(wf * time) + 0.015 * std::cos(wn * time) + 0.005 * std::sin(wn * time));
+  }
+  const std::vector<double> periods = {forced, natural};
+  const std::vector<SinusoidFit> fits = fit_sinusoids(t, y, periods);
+  ASSERT_EQ(fits.size(), 2u);
+  EXPECT_NEAR(fits[0].mean, 0.004, 1e-14);
+  EXPECT_NEAR(fits[0].cosine, 0.0, 1e-14);
+  EXPECT_NEAR(fits[0].sine, 0.02, 1e-14);
+  EXPECT_NEAR(fits[1].cosine, 0.015, 1e-14);
+  EXPECT_NEAR(fits[1].sine, 0.005, 1e-14);
+  EXPECT_EQ(fits[1].mean, fits[0].mean);
+  EXPECT_LT(fits[0].rms_residual, 1e-15);
+  // One period alone is fit_sinusoid, bit for bit.
+  const SinusoidFit one = fit_sinusoid(t, y, forced);
+  const SinusoidFit same = fit_sinusoids(t, y, std::vector<double>{forced}).front();
+  EXPECT_EQ(one.cosine, same.cosine);
+  EXPECT_EQ(one.sine, same.sine);
+  EXPECT_EQ(one.rms_residual, same.rms_residual);
+  // The fit of the forced period alone is spoiled by the free oscillation: why both are fitted.
+  EXPECT_GT(std::abs(one.sine - 0.02), 1e-3);
+  // No period, and a window too short to tell two close periods apart.
+  EXPECT_EQ(error_of([&] { fit_sinusoids(t, y, std::vector<double>{}); }), "fit_sinusoids: no period given");
+  EXPECT_EQ(error_of([&] { fit_sinusoids(std::vector<double>{0, 1, 2, 3}, std::vector<double>{0, 1, 0, 1},
+                                         std::vector<double>{1.0, 2.0}); }),
+            "fit_sinusoids: 4 samples; a mean and 2 sinusoids need at least 5");
+}
+
 TEST(HostWaveAnalysis, BadSeriesAreOneLineErrors) {
   const std::vector<double> t = {0, 0.1, 0.2, 0.3}, y = {0, 1, 0, -1}, short_y = {0, 1, 0};
   EXPECT_EQ(error_of([&] { fit_sinusoid(t, short_y, 1.0); }), "fit_sinusoid: 4 times but 3 values");

@@ -6,6 +6,7 @@
 // a multiple of half a wave length apart) throw a one-line unisph::Error.
 
 #include <span>
+#include <vector>
 
 #include "unisph/motion/linear_waves.hpp"
 
@@ -25,6 +26,14 @@ struct SinusoidFit {
 // window and any sampling will do; over whole periods of uniform samples the coefficients are
 // the Fourier coefficients of the series at ω = 2π / period.
 SinusoidFit fit_sinusoid(std::span<const double> time, std::span<const double> series, double period);
+
+// The same with several periods at once: y(t) ≈ mean + Σ_p (A_p cos ω_p t + B_p sin ω_p t),
+// fitted together (the forced response and a free oscillation of another frequency in one
+// record: the swaying tank of tests/sph/sph_sloshing_test.cpp). One fit per period, in their
+// order, each with the common mean and the whole fit's residual. At least 1 + 2 P samples; a
+// window too short to tell the periods apart is an error.
+std::vector<SinusoidFit> fit_sinusoids(std::span<const double> time, std::span<const double> series,
+                                       std::span<const double> periods);
 
 // The incident and reflected waves of period T from two gauge series sampled at the same times,
 // gauge 2 `spacing` beyond gauge 1 in the incident direction, in water of depth d under gravity

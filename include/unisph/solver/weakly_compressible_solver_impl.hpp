@@ -621,6 +621,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
     for (int a = 0; a < D; ++a) point[a] = T(c.moment_point.empty() ? 0.0 : c.moment_point[std::size_t(a)]);
     wall_load = std::make_unique<WallLoad<T, D>>(fluid, wall, wall_body.particles().ids(), wall_body.particles().first_id(),
                                                  counts, contact, kernel, riemann, wall_volume, point);
+    if (c.kernel_gradient_correction) corrected_pressure_relaxation.store_matrices(&wall_load->correction_matrices());
   }
   // Adds dt times the loads of the current state (after a pressure relaxation) to the step's sum.
   template <class P>

@@ -191,10 +191,13 @@ class PressureRelaxation : public InteractionDynamics<PressureRelaxation<T, D>> 
 // (its corrected configuration, B_i per particle), B_i multiplies the sum of the symmetric pair
 // terms, which keeps the pair form's regularity of the particle arrangement; unlike the pair form
 // it does not conserve momentum exactly (B_i differs from B_j). M_i is summed in the same walk as
-// the force, with the same pair geometry. Where M_i is nearly singular (a particle with few
-// neighbours in one plane: a splash, a drop) the correction is skipped and the pair form used:
-// det M_i below (tr M_i / (4 D))^D (in 2D, an eigenvalue below 1/32 of their mean or less; the
-// interior's M_i is 0.974 I on the lattice).
+// the force, with the same pair geometry. B_i is blended with the identity by the moment's
+// determinant, as SPHinXsys does: B_i = w I + (1 - w) M_i^-1, w = alpha / (det M_i + alpha),
+// alpha = 0.1: inside the water (det M_i = 0.95) 0.90 of the inverse, at the surface (about 0.48)
+// 0.83, and the pair form where M_i turns singular (a splash, a particle climbing a wall). The
+// plain inverse (alpha = 0) threw particles up the walls of a swaying tank within three periods;
+// SPHinXsys' standing wave takes alpha = 0.3, which left its period 1.1 to 1.3 % short here
+// against 0.2 to 0.7 % with 0.1 (docs/validation.md, "The kernel gradient correction").
 template <class T, int D>
 class CorrectedPressureRelaxation : public InteractionDynamics<CorrectedPressureRelaxation<T, D>> {
   using Base = PressureRelaxation<T, D>;
@@ -202,10 +205,16 @@ class CorrectedPressureRelaxation : public InteractionDynamics<CorrectedPressure
  public:
   explicit CorrectedPressureRelaxation(Base& uncorrected) : uncorrected_(uncorrected) {}
 
+  // Each particle's B_i written to `matrices` (resized to the fluid's count) at every exec, for
+  // the wall loads (wall_load.hpp), which apply it to the wall terms as the force does.
+  void store_matrices(DiscreteVariable<Mat<T, D>>* matrices) { matrices_ = matrices; }
+
   struct Kernel : Base::Kernel {
     // No occupancy hint: the D x D moment adds registers to the pair form's measured budget;
     // not timed on a GPU yet (docs/sph.md).
     static constexpr int min_blocks_per_multiprocessor = 0;
+    static constexpr T correction_weight = T(0.1);  // alpha
+    View<Mat<T, D>> matrices;  // B_i, where the wall loads need it (else empty)
     UNISPH_HOST_DEVICE void interaction(Index i, Real) const {
       const VelocityPressure<T, D> own = this->velocity_pressure[i];
       const Vec<T, D> v_i = own.velocity;
@@ -241,21 +250,32 @@ class CorrectedPressureRelaxation : public InteractionDynamics<CorrectedPressure
           add_moment(pair, dW, this->wall_volume);
         });
       }
-      const T floor = trace(moment) / T(4 * D);
-      T floor_power = T(1);
-      for (int a = 0; a < D; ++a) floor_power *= floor;
-      if (floor > T(0) && determinant(moment) > floor_power) force = inverse(moment) * force;
+      // B_i = w I + (1 - w) M_i^-1, w = alpha / (det M_i + alpha): M_i^-1 where the particle's
+      // neighbours surround it, fading to the pair form as M_i turns singular.
+      Mat<T, D> b = Mat<T, D>::identity();
+      if (const T det = determinant(moment); det > T(0)) {
+        const T w = correction_weight / (det + correction_weight);
+        b = inverse(moment) * (T(1) - w);
+        for (int a = 0; a < D; ++a) b(a, a) += w;
+      }
+      force = b * force;
+      if (!matrices.empty()) matrices[i] = b;
       this->acceleration[i] = force * (-T(1) / rho_i);
     }
   };
   static_assert(std::is_trivially_copyable_v<Kernel>, "Kernels are copied to the device byte for byte.");
   static_assert(D == 2 || D == 3, "The kernel gradient correction inverts a 2 x 2 or 3 x 3 moment matrix.");
 
-  Kernel make_kernel(KernelContext& c) { return Kernel{uncorrected_.make_kernel(c)}; }
+  Kernel make_kernel(KernelContext& c) {
+    if (!matrices_) return Kernel{uncorrected_.make_kernel(c), View<Mat<T, D>>{}};
+    if (matrices_->size() != size()) matrices_->resize(size());  // the fluid may have lost particles
+    return Kernel{uncorrected_.make_kernel(c), c.write(*matrices_)};
+  }
   Index size() const { return uncorrected_.size(); }
 
  private:
   Base& uncorrected_;  // its views, kernel and Riemann solver
+  DiscreteVariable<Mat<T, D>>* matrices_ = nullptr;
 };
 
 template <class T, int D>

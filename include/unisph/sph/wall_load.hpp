@@ -90,6 +90,7 @@ class WallLoadTerms : public InteractionDynamics<WallLoadTerms<T, D>> {
     T wall_volume;
     Vec<T, D> moment_point;
     bool moving_walls;
+    View<const Mat<T, D>> correction;  // B_i of the corrected pressure force (else empty)
 
     UNISPH_HOST_DEVICE void interaction(Index i, Real) const {
       const Index bodies = body_end.size();
@@ -114,8 +115,10 @@ class WallLoadTerms : public InteractionDynamics<WallLoadTerms<T, D>> {
       // The acceleration from body b is -(1/rho_i) sum; the reaction on b is -m_i times it.
       const Vec<T, D> arm = position[i] - moment_point;
       const T m_i = mass[i];
+      const bool corrected = !correction.empty();
       for (Index b = 0; b < bodies; ++b) {
-        const Vec<T, D> acceleration = own[b].force * (-T(1) / rho_i);
+        const Vec<T, D> term = corrected ? Vec<T, D>(correction[i] * own[b].force) : own[b].force;
+        const Vec<T, D> acceleration = term * (-T(1) / rho_i);
         const Vec<T, D> force = acceleration * (-m_i);
         own[b] = WallLoadRecord<T, D>{force, moment_of<T, D>(arm, force)};
       }
@@ -142,11 +145,14 @@ class WallLoadTerms : public InteractionDynamics<WallLoadTerms<T, D>> {
             riemann_,
             wall_volume_,
             moment_point_,
-            wall_.moving()};
+            wall_.moving(),
+            correction_ ? c.read(*correction_) : View<const Mat<T, D>>{}};
   }
   Index size() const { return fluid_.size(); }
+  void use_correction(DiscreteVariable<Mat<T, D>>* correction) { correction_ = correction; }
 
  private:
+  DiscreteVariable<Mat<T, D>>* correction_ = nullptr;
   FluidVariables<T, D>& fluid_;
   WallVariables<T, D>& wall_;
   DiscreteVariable<std::uint64_t>& wall_ids_;
@@ -207,6 +213,14 @@ class WallLoad {
 
   Index bodies() const { return body_ends_.size(); }
 
+  // With fluid.kernel_gradient_correction the fluid's wall force is B_i times the wall terms
+  // (CorrectedPressureRelaxation): the loads take each particle's B_i from here, which the
+  // corrected pressure relaxation fills before each sample.
+  DiscreteVariable<Mat<T, D>>& correction_matrices() {
+    terms_kernel_.use_correction(&correction_);
+    return correction_;
+  }
+
   // The load on each wall body, in the order of body_counts.
   template <ExecutionPolicy P>
   std::vector<WallBodyLoad<T, D>> exec(P policy) {
@@ -222,6 +236,7 @@ class WallLoad {
   FluidVariables<T, D>& fluid_;
   DiscreteVariable<std::uint64_t> body_ends_;
   DiscreteVariable<WallLoadRecord<T, D>> terms_;
+  DiscreteVariable<Mat<T, D>> correction_{"WallLoad.Correction", 0};
   WallLoadTerms<T, D> terms_kernel_;
   std::vector<std::unique_ptr<WallLoadSum<T, D>>> sums_;
 };
