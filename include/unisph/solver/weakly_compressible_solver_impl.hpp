@@ -409,7 +409,6 @@ struct WeaklyCompressibleSolver<T, D>::State {
         pressure_start(fluid, eos),
         wall_free(wall_free_of(c, particles, domain, double(kernel.cutoff()))),
         pressure_relaxation(fluid, wall, inner, contact, kernel, riemann, wall_volume, wall_free),
-        corrected_pressure_relaxation(pressure_relaxation),
         velocity_update(fluid),
         density_relaxation(fluid, wall, inner, contact, kernel, riemann, wall_volume, c.continuity_dissipation, wall_free,
                            DensityDiffusion<T, D>::make(T(c.density_diffusion), kernel.h, T(c.sound_speed), T(c.density),
@@ -440,6 +439,13 @@ struct WeaklyCompressibleSolver<T, D>::State {
     }
     check_walls_along_periodic_axes(c, particles, domain, wall_groups, double(kernel.cutoff()));
     make_wall_motions(c);
+    if (c.kernel_gradient_correction) {
+      kernel_correction = &fluid_body.particles().template add_variable<Mat<T, D>>(kernel_correction_name.front());
+      kernel_correction_matrices = std::make_unique<KernelCorrectionMatrices<T, D>>(
+          fluid, inner, contact, kernel, wall_volume, wall_free, *kernel_correction);
+      corrected_pressure_relaxation =
+          std::make_unique<CorrectedPressureRelaxation<T, D>>(pressure_relaxation, *kernel_correction);
+    }
     if (c.loads) make_wall_load(c);
     if (c.damping_zone.present()) {
       Vector e{};
@@ -621,7 +627,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
     for (int a = 0; a < D; ++a) point[a] = T(c.moment_point.empty() ? 0.0 : c.moment_point[std::size_t(a)]);
     wall_load = std::make_unique<WallLoad<T, D>>(fluid, wall, wall_body.particles().ids(), wall_body.particles().first_id(),
                                                  counts, contact, kernel, riemann, wall_volume, point);
-    if (c.kernel_gradient_correction) corrected_pressure_relaxation.store_matrices(&wall_load->correction_matrices());
+    if (kernel_correction) wall_load->use_correction(*kernel_correction);
   }
   // Adds dt times the loads of the current state (after a pressure relaxation) to the step's sum.
   template <class P>
@@ -983,6 +989,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
       if (description.density_method != "continuity") density_summation.exec(p);
       if (fluid_images) fluid_images->refresh(p, fluid.density);  // prior acceleration reads rho_j
       if (share) share->refresh(p, fluid_body, *fluid_halo, ghost_density_name);
+      update_kernel_correction(p);
       double travelled = 0;  // several ranks: the farthest a particle can have moved in this step
       prior_acceleration.exec(p);
       // Each acoustic step: pressure start (rho, p, x), pressure relaxation (a), velocity
@@ -1332,6 +1339,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
   void pressure_relaxation_pass() {
     const double dt = last_acoustic_dt > 0 ? last_acoustic_dt : criteria.acoustic_step(0);
     visit_policy(policy, [&](auto p) {
+      update_kernel_correction(p);
       relax_pressure(p, Real(dt));
       fence(p);
     });
@@ -1339,10 +1347,19 @@ struct WeaklyCompressibleSolver<T, D>::State {
   // The momentum equation's pair sums, with the kernel gradient corrected where the case asks.
   template <class P>
   void relax_pressure(P p, Real dt) {
-    if (description.kernel_gradient_correction)
-      corrected_pressure_relaxation.exec(p, dt);
+    if (corrected_pressure_relaxation)
+      corrected_pressure_relaxation->exec(p, dt);
     else
       pressure_relaxation.exec(p, dt);
+  }
+  // B of every owned fluid particle from the step's positions, then of the images and ghosts
+  // (their own neighbourhoods are cut off by the halo: they take their source's).
+  template <class P>
+  void update_kernel_correction(P p) {
+    if (!kernel_correction_matrices) return;
+    kernel_correction_matrices->exec(p);
+    if (fluid_images) fluid_images->refresh(p, *kernel_correction);
+    if (share) share->refresh(p, fluid_body, *fluid_halo, kernel_correction_name);
   }
 
   ObserverSample observe() {
@@ -1483,7 +1500,12 @@ struct WeaklyCompressibleSolver<T, D>::State {
   PressureRelaxationStart<T, D> pressure_start;
   WallFreeBox<T, D> wall_free;  // of the tank: fluid particles there have no wall neighbour
   PressureRelaxation<T, D> pressure_relaxation;
-  CorrectedPressureRelaxation<T, D> corrected_pressure_relaxation;  // fluid.kernel_gradient_correction
+  // fluid.kernel_gradient_correction: each fluid particle's B (ghosts and images included), the
+  // pass that computes it once per advection step, and the corrected momentum equation.
+  DiscreteVariable<Mat<T, D>>* kernel_correction = nullptr;
+  std::unique_ptr<KernelCorrectionMatrices<T, D>> kernel_correction_matrices;
+  std::unique_ptr<CorrectedPressureRelaxation<T, D>> corrected_pressure_relaxation;
+  const std::vector<std::string> kernel_correction_name{"KernelCorrection"};
   VelocityUpdate<T, D> velocity_update;
   DensityRelaxation<T, D> density_relaxation;
   DensityUpdate<T, D> density_update;

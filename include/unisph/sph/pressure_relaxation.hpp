@@ -178,104 +178,150 @@ class PressureRelaxation : public InteractionDynamics<PressureRelaxation<T, D>> 
   WallFreeBox<T, D> wall_free_;
 };
 
-// PressureRelaxation with the kernel gradient corrected (fluid.kernel_gradient_correction):
+// The kernel gradient correction (fluid.kernel_gradient_correction), in two parts:
 //
-//   a_i = -(1/rho_i) B_i sum_j 2 p*_ij dW_ij V_j e_ij  (+ the wall terms, likewise times B_i),
-//   B_i = M_i^-1,  M_i = -sum_j V_j r_ij dW_ij e_ij e_ij^T  over fluid and wall neighbours,
+//   KernelCorrectionMatrices     B_i = w I + (1 - w) M_i^-1,  w = alpha / (det M_i + alpha),
+//                                M_i = -sum_j V_j r_ij dW_ij e_ij e_ij^T over fluid and wall
+//                                neighbours; once per advection step (as SPHinXsys' corrected
+//                                configuration), then carried to periodic images and ghosts
+//   CorrectedPressureRelaxation  a_i = -(1/rho_i) [ sum_j (p_i B_i + p_j B_j + d_ij) e_ij dW_ij V_j
+//                                                   + B_i sum_w (the wall terms) ],
+//                                d_ij the Riemann dissipation of p*_ij (2 p*_ij - p_i - p_j)
 //
-// so that the gradient of a linear pressure field is exact at every particle, at the free surface
-// too, where the kernel is cut off and M_i falls to about half of its interior value along the
-// surface's normal. Without it the free surface's pressure gradient is too weak there, and the
-// gravity waves of the flumes and tanks ran 3.5 to 5 % too fast at every resolution from d/20 to
-// d/50 (docs/validation.md, "The kernel gradient correction"). As in SPHinXsys' standing-wave case
-// (its corrected configuration, B_i per particle), B_i multiplies the sum of the symmetric pair
-// terms, which keeps the pair form's regularity of the particle arrangement; unlike the pair form
-// it does not conserve momentum exactly (B_i differs from B_j). M_i is summed in the same walk as
-// the force, with the same pair geometry. B_i is blended with the identity by the moment's
-// determinant, as SPHinXsys does: B_i = w I + (1 - w) M_i^-1, w = alpha / (det M_i + alpha),
-// alpha = 0.1: inside the water (det M_i = 0.95) 0.90 of the inverse, at the surface (about 0.48)
-// 0.83, and the pair form where M_i turns singular (a splash, a particle climbing a wall). The
-// plain inverse (alpha = 0) threw particles up the walls of a swaying tank within three periods;
-// SPHinXsys' standing wave takes alpha = 0.3, which left its period 1.1 to 1.3 % short here
-// against 0.2 to 0.7 % with 0.1 (docs/validation.md, "The kernel gradient correction").
+// With B = M^-1 the gradient of a linear pressure field is exact at every particle, at the free
+// surface too, where the kernel is cut off and M_i falls to about half of its interior value
+// along the surface's normal. Without it the free surface's pressure gradient is too weak there,
+// and the gravity waves of the flumes and tanks ran 3.5 to 5 % too fast at every resolution from
+// d/20 to d/50 (docs/validation.md, "The kernel gradient correction"). The pair term
+// p_i B_i + p_j B_j is the same seen from i and from j, so the fluid's internal forces cancel and
+// the walls carry the water's weight (B_i (p_i + p_j), tried first, did not conserve momentum:
+// the walls of a tank at rest carried 2 to 8 % less). B_i is blended with the identity by the
+// moment's determinant with SPHinXsys' alpha = 0.3: 0.76 of the inverse inside the water
+// (det M_i = 0.95), 0.62 at the surface (about 0.48), and the pair form where M_i turns singular
+// (a splash, a particle climbing a wall). Smaller alphas threw particles up the walls of a swaying
+// tank (alpha = 0 with B_i (p_i + p_j) within three periods; 0.1 with this form after six).
+template <class T, int D>
+class KernelCorrectionMatrices : public InteractionDynamics<KernelCorrectionMatrices<T, D>> {
+ public:
+  static_assert(D == 2 || D == 3, "The kernel gradient correction inverts a 2 x 2 or 3 x 3 moment matrix.");
+  KernelCorrectionMatrices(FluidVariables<T, D>& fluid, InnerRelation<T, D>& inner, ContactRelation<T, D>& contact,
+                           WendlandC2Kernel<T, D> kernel, T wall_volume, WallFreeBox<T, D> wall_free,
+                           DiscreteVariable<Mat<T, D>>& matrices)
+      : fluid_(fluid), inner_(inner), contact_(contact), kernel_(kernel), wall_volume_(wall_volume),
+        wall_free_(wall_free), matrices_(matrices) {}
+
+  struct Kernel {
+    static constexpr T alpha = T(0.3);
+    NeighborSearch<T, D> inner, contact;
+    View<const PositionVolume<T, D>> position_volume;  // of the fluid neighbours
+    View<Mat<T, D>> matrices;
+    WendlandC2Kernel<T, D> kernel;
+    T wall_volume;
+    WallFreeBox<T, D> wall_free;
+
+    UNISPH_HOST_DEVICE void interaction(Index i, Real) const {
+      Mat<T, D> moment{};  // M_i
+      const auto add = [&](const NeighborPair<T, D>& pair, T dW, T volume) {
+        const Vec<T, D>& e = pair.direction();
+        const Vec<T, D> scaled = e * (-volume * pair.distance() * dW);
+        for (int a = 0; a < D; ++a) moment.row[a] += scaled * e[a];
+      };
+      const PairKernelDerivative<T, D> derivative{kernel};
+      for_each_neighbor_record(inner, position_volume, i, derivative,
+                               [&](Index, const PositionVolume<T, D>& r_j, const NeighborPair<T, D>& pair, T dW) {
+                                 add(pair, dW, r_j.volume);
+                               });
+      if (contact.uses_stored_lists() || !wall_free.contains(position_volume[i].position))
+        contact.for_each_weighted_neighbor(
+            i, derivative, [&](Index, const NeighborPair<T, D>& pair, T dW) { add(pair, dW, wall_volume); });
+      Mat<T, D> b = Mat<T, D>::identity();
+      if (const T det = determinant(moment); det > T(0)) {
+        const T w = alpha / (det + alpha);
+        b = inverse(moment) * (T(1) - w);
+        for (int a = 0; a < D; ++a) b(a, a) += w;
+      }
+      matrices[i] = b;
+    }
+  };
+  static_assert(std::is_trivially_copyable_v<Kernel>, "Kernels are copied to the device byte for byte.");
+
+  Kernel make_kernel(KernelContext& c) {
+    const PairKernelDerivative<T, D> derivative{kernel_};
+    return {inner_.search(c, derivative), contact_.search(c, derivative), c.read(fluid_.neighbor_position_volume),
+            c.write(matrices_),           kernel_,                        wall_volume_,
+            wall_free_};
+  }
+  Index size() const { return fluid_.size(); }
+
+ private:
+  FluidVariables<T, D>& fluid_;
+  InnerRelation<T, D>& inner_;
+  ContactRelation<T, D>& contact_;
+  WendlandC2Kernel<T, D> kernel_;
+  T wall_volume_;
+  WallFreeBox<T, D> wall_free_;
+  DiscreteVariable<Mat<T, D>>& matrices_;
+};
+
 template <class T, int D>
 class CorrectedPressureRelaxation : public InteractionDynamics<CorrectedPressureRelaxation<T, D>> {
   using Base = PressureRelaxation<T, D>;
 
  public:
-  explicit CorrectedPressureRelaxation(Base& uncorrected) : uncorrected_(uncorrected) {}
-
-  // Each particle's B_i written to `matrices` (resized to the fluid's count) at every exec, for
-  // the wall loads (wall_load.hpp), which apply it to the wall terms as the force does.
-  void store_matrices(DiscreteVariable<Mat<T, D>>* matrices) { matrices_ = matrices; }
+  // `matrices`: B of every fluid particle, ghosts and images included (KernelCorrectionMatrices).
+  CorrectedPressureRelaxation(Base& uncorrected, DiscreteVariable<Mat<T, D>>& matrices)
+      : uncorrected_(uncorrected), matrices_(matrices) {}
 
   struct Kernel : Base::Kernel {
-    // No occupancy hint: the D x D moment adds registers to the pair form's measured budget;
-    // not timed on a GPU yet (docs/sph.md).
+    // No occupancy hint: B_j's load and product add to the pair form's measured budget; not
+    // timed on a GPU yet (docs/sph.md).
     static constexpr int min_blocks_per_multiprocessor = 0;
-    static constexpr T correction_weight = T(0.1);  // alpha
-    View<Mat<T, D>> matrices;  // B_i, where the wall loads need it (else empty)
+    View<const Mat<T, D>> matrices;
+
     UNISPH_HOST_DEVICE void interaction(Index i, Real) const {
       const VelocityPressure<T, D> own = this->velocity_pressure[i];
       const Vec<T, D> v_i = own.velocity;
       const T p_i = own.pressure;
       const T rho_i = this->density[i];
+      const Mat<T, D> b_i = matrices[i];
       Vec<T, D> force{};
-      Mat<T, D> moment{};  // M_i
-      const auto add_moment = [&](const NeighborPair<T, D>& pair, T dW, T volume) {
-        const Vec<T, D>& e = pair.direction();
-        const Vec<T, D> scaled = e * (-volume * pair.distance() * dW);
-        for (int a = 0; a < D; ++a) moment.row[a] += scaled * e[a];
-      };
       const PairKernelDerivative<T, D> derivative{this->kernel};
       for_each_neighbor_record(this->inner, this->position_volume, i, derivative,
                                [&](Index j, const PositionVolume<T, D>& r_j, const NeighborPair<T, D>& pair, T dW) {
                                  VelocityPressureRead<T, D> s_j = this->velocity_pressure[j];
                                  const Vec<T, D>& e = pair.direction();
                                  const T jump = -dot(v_i - s_j.velocity, e);
-                                 force += e * (this->riemann.twice_interface_pressure(p_i, s_j.pressure, jump) *
-                                               (dW * r_j.volume));
-                                 add_moment(pair, dW, r_j.volume);
+                                 const T dissipation =
+                                     this->riemann.twice_interface_pressure(p_i, s_j.pressure, jump) - p_i - s_j.pressure;
+                                 const Vec<T, D> term =
+                                     b_i * (e * p_i) + matrices[j] * (e * s_j.pressure) + e * dissipation;
+                                 force += term * (dW * r_j.volume);
                                });
       if (this->contact.uses_stored_lists() || !this->wall_free.contains(this->position_volume[i].position)) {
         const Vec<T, D> a0 = this->prior_acceleration[i];
+        Vec<T, D> walls{};
         this->contact.for_each_weighted_neighbor(i, derivative, [&](Index w, const NeighborPair<T, D>& pair, T dW) {
           if (this->moving_walls)
-            force += wall_pressure_term(this->riemann, p_i, rho_i, Vec<T, D>(v_i - this->wall_velocity[w]),
+            walls += wall_pressure_term(this->riemann, p_i, rho_i, Vec<T, D>(v_i - this->wall_velocity[w]),
                                         Vec<T, D>(a0 - this->wall_acceleration[w]), this->wall_normal[w], pair, dW,
                                         this->wall_volume);
           else
-            force += wall_pressure_term(this->riemann, p_i, rho_i, v_i, a0, this->wall_normal[w], pair, dW,
+            walls += wall_pressure_term(this->riemann, p_i, rho_i, v_i, a0, this->wall_normal[w], pair, dW,
                                         this->wall_volume);
-          add_moment(pair, dW, this->wall_volume);
         });
+        force += b_i * walls;
       }
-      // B_i = w I + (1 - w) M_i^-1, w = alpha / (det M_i + alpha): M_i^-1 where the particle's
-      // neighbours surround it, fading to the pair form as M_i turns singular.
-      Mat<T, D> b = Mat<T, D>::identity();
-      if (const T det = determinant(moment); det > T(0)) {
-        const T w = correction_weight / (det + correction_weight);
-        b = inverse(moment) * (T(1) - w);
-        for (int a = 0; a < D; ++a) b(a, a) += w;
-      }
-      force = b * force;
-      if (!matrices.empty()) matrices[i] = b;
       this->acceleration[i] = force * (-T(1) / rho_i);
     }
   };
   static_assert(std::is_trivially_copyable_v<Kernel>, "Kernels are copied to the device byte for byte.");
-  static_assert(D == 2 || D == 3, "The kernel gradient correction inverts a 2 x 2 or 3 x 3 moment matrix.");
 
-  Kernel make_kernel(KernelContext& c) {
-    if (!matrices_) return Kernel{uncorrected_.make_kernel(c), View<Mat<T, D>>{}};
-    if (matrices_->size() != size()) matrices_->resize(size());  // the fluid may have lost particles
-    return Kernel{uncorrected_.make_kernel(c), c.write(*matrices_)};
-  }
+  Kernel make_kernel(KernelContext& c) { return Kernel{uncorrected_.make_kernel(c), c.read(matrices_)}; }
   Index size() const { return uncorrected_.size(); }
 
  private:
   Base& uncorrected_;  // its views, kernel and Riemann solver
-  DiscreteVariable<Mat<T, D>>* matrices_ = nullptr;
+  DiscreteVariable<Mat<T, D>>& matrices_;
 };
 
 template <class T, int D>

@@ -214,12 +214,8 @@ class WallLoad {
   Index bodies() const { return body_ends_.size(); }
 
   // With fluid.kernel_gradient_correction the fluid's wall force is B_i times the wall terms
-  // (CorrectedPressureRelaxation): the loads take each particle's B_i from here, which the
-  // corrected pressure relaxation fills before each sample.
-  DiscreteVariable<Mat<T, D>>& correction_matrices() {
-    terms_kernel_.use_correction(&correction_);
-    return correction_;
-  }
+  // (CorrectedPressureRelaxation): the loads apply each particle's B_i the same way.
+  void use_correction(DiscreteVariable<Mat<T, D>>& matrices) { terms_kernel_.use_correction(&matrices); }
 
   // The load on each wall body, in the order of body_counts.
   template <ExecutionPolicy P>
@@ -236,7 +232,6 @@ class WallLoad {
   FluidVariables<T, D>& fluid_;
   DiscreteVariable<std::uint64_t> body_ends_;
   DiscreteVariable<WallLoadRecord<T, D>> terms_;
-  DiscreteVariable<Mat<T, D>> correction_{"WallLoad.Correction", 0};
   WallLoadTerms<T, D> terms_kernel_;
   std::vector<std::unique_ptr<WallLoadSum<T, D>>> sums_;
 };
