@@ -180,7 +180,8 @@ class WeaklyCompressibleSolver {
 
   // For benchmarks: neighbour pairs of the current state, and one more pass of the momentum
   // (pressure-relaxation) kernel alone, waited for. The pass writes only the acceleration,
-  // which the next acoustic step recomputes before using it.
+  // which the next acoustic step recomputes before using it (and, with the kernel gradient
+  // correction, the correction matrices of the current positions first).
   PairCounts count_pairs();
   void pressure_relaxation_pass();
 
