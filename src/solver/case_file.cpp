@@ -113,6 +113,13 @@ struct Reader {
     if (v < 0) fail(table.get(key), prefix + key, "must not be negative (it is " + format(v) + ")");
     return v;
   }
+  bool boolean(const toml::table& table, const std::string& prefix, const std::string& key, bool fallback) const {
+    const toml::node* node = table.get(key);
+    if (!node) return fallback;
+    if (!node->is_boolean())
+      fail(node, prefix + key, std::string("must be true or false (it is a ") + type_name(*node) + ")");
+    return node->as_boolean()->get();
+  }
   std::string text(const toml::table& table, const std::string& prefix, const std::string& key, const std::string* fallback) const {
     const toml::node* node = table.get(key);
     if (!node) {
@@ -642,17 +649,8 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
   c.sound_speed = r.positive(fluid, "fluid.", "sound_speed");
   c.reference_velocity = r.positive(fluid, "fluid.", "reference_velocity");
   c.viscosity = r.non_negative(fluid, "fluid.", "viscosity", 0.0);
-  if (const toml::node* node = fluid.get("continuity_dissipation")) {
-    if (!node->is_boolean())
-      r.fail(node, "fluid.continuity_dissipation", std::string("must be true or false (it is a ") + Reader::type_name(*node) + ")");
-    c.continuity_dissipation = node->as_boolean()->get();
-  }
-  if (const toml::node* node = fluid.get("kernel_gradient_correction")) {
-    if (!node->is_boolean())
-      r.fail(node, "fluid.kernel_gradient_correction",
-             std::string("must be true or false (it is a ") + Reader::type_name(*node) + ")");
-    c.kernel_gradient_correction = node->as_boolean()->get();
-  }
+  c.continuity_dissipation = r.boolean(fluid, "fluid.", "continuity_dissipation", c.continuity_dissipation);
+  c.kernel_gradient_correction = r.boolean(fluid, "fluid.", "kernel_gradient_correction", c.kernel_gradient_correction);
   c.free_surface_density = r.choice(fluid, "fluid.", "free_surface_density", {"reference", "carried", "none"});
   c.density_method = r.choice(fluid, "fluid.", "density_method", {"summation", "continuity"});
   c.density_diffusion = r.non_negative(fluid, "fluid.", "density_diffusion", 0.0);
@@ -746,11 +744,7 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
   c.time_scale = r.positive(report, "report.", "time", &unit);
   c.pressure_scale = r.positive(report, "report.", "pressure", &unit);
   // report.loads = true: every wall body's force and moment (about report.moment_point) to loads.csv.
-  if (const toml::node* node = report.get("loads")) {
-    if (!node->is_boolean())
-      r.fail(node, "report.loads", std::string("must be true or false (it is a ") + Reader::type_name(*node) + ")");
-    c.loads = node->as_boolean()->get();
-  }
+  c.loads = r.boolean(report, "report.", "loads", c.loads);
   c.moment_point = report.get("moment_point") ? r.vector(report, "report.", "moment_point", c.dimension, false)
                                               : std::vector<double>(std::size_t(c.dimension), 0.0);
   if (report.get("moment_point") && !c.loads)

@@ -132,17 +132,22 @@ class PressureRelaxation : public InteractionDynamics<PressureRelaxation<T, D>> 
                                  const T weight = dW * r_j.volume;
                                  force += e * (riemann.twice_interface_pressure(p_i, s_j.pressure, jump) * weight);
                                });
-      if (contact.uses_stored_lists() || !wall_free.contains(position_volume[i].position)) {
-        const Vec<T, D> a0 = prior_acceleration[i];
-        contact.for_each_weighted_neighbor(i, derivative, [&](Index w, const NeighborPair<T, D>& pair, T dW) {
-          if (moving_walls)
-            force += wall_pressure_term(riemann, p_i, rho_i, Vec<T, D>(v_i - wall_velocity[w]),
-                                        Vec<T, D>(a0 - wall_acceleration[w]), wall_normal[w], pair, dW, wall_volume);
-          else
-            force += wall_pressure_term(riemann, p_i, rho_i, v_i, a0, wall_normal[w], pair, dW, wall_volume);
-        });
-      }
+      add_wall_terms(i, p_i, rho_i, v_i, force);
       acceleration[i] = force * (-T(1) / rho_i);
+    }
+    // Adds the wall dummy particles' terms of fluid particle i to `sum` (none inside the
+    // wall-free box of a direct search); CorrectedPressureRelaxation takes them apart to apply B_i.
+    UNISPH_HOST_DEVICE void add_wall_terms(Index i, T p_i, T rho_i, const Vec<T, D>& v_i, Vec<T, D>& sum) const {
+      if (!contact.uses_stored_lists() && wall_free.contains(position_volume[i].position)) return;
+      const PairKernelDerivative<T, D> derivative{kernel};
+      const Vec<T, D> a0 = prior_acceleration[i];
+      contact.for_each_weighted_neighbor(i, derivative, [&](Index w, const NeighborPair<T, D>& pair, T dW) {
+        if (moving_walls)
+          sum += wall_pressure_term(riemann, p_i, rho_i, Vec<T, D>(v_i - wall_velocity[w]),
+                                    Vec<T, D>(a0 - wall_acceleration[w]), wall_normal[w], pair, dW, wall_volume);
+        else
+          sum += wall_pressure_term(riemann, p_i, rho_i, v_i, a0, wall_normal[w], pair, dW, wall_volume);
+      });
     }
   };
   static_assert(std::is_trivially_copyable_v<Kernel>, "Kernels are copied to the device byte for byte.");
@@ -297,20 +302,9 @@ class CorrectedPressureRelaxation : public InteractionDynamics<CorrectedPressure
                                      b_i * (e * p_i) + matrices[j] * (e * s_j.pressure) + e * dissipation;
                                  force += term * (dW * r_j.volume);
                                });
-      if (this->contact.uses_stored_lists() || !this->wall_free.contains(this->position_volume[i].position)) {
-        const Vec<T, D> a0 = this->prior_acceleration[i];
-        Vec<T, D> walls{};
-        this->contact.for_each_weighted_neighbor(i, derivative, [&](Index w, const NeighborPair<T, D>& pair, T dW) {
-          if (this->moving_walls)
-            walls += wall_pressure_term(this->riemann, p_i, rho_i, Vec<T, D>(v_i - this->wall_velocity[w]),
-                                        Vec<T, D>(a0 - this->wall_acceleration[w]), this->wall_normal[w], pair, dW,
-                                        this->wall_volume);
-          else
-            walls += wall_pressure_term(this->riemann, p_i, rho_i, v_i, a0, this->wall_normal[w], pair, dW,
-                                        this->wall_volume);
-        });
-        force += b_i * walls;
-      }
+      Vec<T, D> walls{};
+      this->add_wall_terms(i, p_i, rho_i, v_i, walls);
+      force += b_i * walls;
       this->acceleration[i] = force * (-T(1) / rho_i);
     }
   };
