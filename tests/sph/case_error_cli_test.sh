@@ -9,8 +9,10 @@ sed 's/^column = \[2.0, 1.0\]/column = [6.0, 1.0]/' "$cases/dambreak_2d.toml" > 
 sed 's/^gravity = 1.0/gravity = "down"/' "$cases/dambreak_2d.toml" > "$work/wrong_type.toml"
 sed 's/^sound_speed = 20.0.*/sound_speed = 20.0\nspeed_of_sound = 20.0/' "$cases/dambreak_2d.toml" > "$work/unknown_key.toml"
 sed '/^density = 1.0/d' "$cases/dambreak_2d.toml" > "$work/missing.toml"
+sed 's/^continuity_dissipation = true.*/continuity_dissipation = true\nkernel_gradient_correction = 1/' "$cases/dambreak_2d.toml" > "$work/not_boolean.toml"
 status=0
-for case in negative_dx:geometry.dx big_column:geometry.column wrong_type:physics.gravity unknown_key:fluid.speed_of_sound missing:fluid.density; do
+for case in negative_dx:geometry.dx big_column:geometry.column wrong_type:physics.gravity unknown_key:fluid.speed_of_sound missing:fluid.density \
+            not_boolean:fluid.kernel_gradient_correction; do
   name=${case%%:*}; key=${case#*:}
   "$exe" run "$work/$name.toml" --output "$work/out_$name" --policy seq > "$work/$name.out" 2> "$work/$name.err"
   rc=$?
