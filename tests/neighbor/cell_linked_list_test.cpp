@@ -236,6 +236,59 @@ TYPED_TEST(CellListBuild, OrderedByIdRefusesAnotherSetsIds) {
   EXPECT_THROW(cells.build(this->policy), Error);
 }
 
+// After the positions moved: the lists are kept exactly where every particle stays in its
+// bucket (and then equal a fresh build's, the cell-ordered positions refreshed), and refused
+// where one crossed a cell face, left the box of a flagging list, or became NaN.
+TYPED_TEST(CellListBuild, KeptAfterAMoveOnlyWhereEveryParticleStaysInItsCell) {
+  const auto policy = this->policy;
+  for (OutsideParticles outside : {OutsideParticles::clamp, OutsideParticles::flag}) {
+    SCOPED_TRACE(outside == OutsideParticles::clamp ? "clamp" : "flag");
+    const Scenario<double, 2> s = make_scenario<double, 2>(Layout::random);
+    ParticleSet set("Wall", s.positions.size());
+    DiscreteVariable<Vec<double, 2>> x("Position");
+    x.assign(s.positions);
+    CellLinkedList<double, 2> cells(x, s.box, s.cutoff, outside);
+    cells.order_within_cells_by_id(set);
+    cells.store_positions_in_cell_order();
+    EXPECT_FALSE(cells.keep_if_cells_unchanged(policy));  // never built
+    cells.build(policy);
+    EXPECT_TRUE(cells.keep_if_cells_unchanged(policy));  // not moved
+    // Each particle moved a quarter of the way to its cell's centre: the same cells.
+    std::vector<Vec<double, 2>> moved = s.positions;
+    for (Vec<double, 2>& p : moved) {
+      const Vec<int, 2> c = cells.grid().place(p).cell;
+      for (int a = 0; a < 2; ++a) {
+        const double centre = s.box.lower[a] + (c[a] + 0.5) * cells.grid().axis_cell_size[a];
+        p[a] += 0.25 * (centre - p[a]);
+      }
+    }
+    x.assign(moved);
+    const std::uint64_t builds = cells.builds();
+    ASSERT_TRUE(cells.keep_if_cells_unchanged(policy));
+    EXPECT_EQ(cells.builds(), builds);
+    const auto kept = cells.particles().to_vector();
+    const CellListView<double, 2> view = cells.view(seq);
+    std::vector<Vec<double, 2>> kept_points;
+    for (Index k = 0; k < view.points.size(); ++k) kept_points.push_back(view.points[k].position());
+    cells.build(policy);
+    EXPECT_EQ(cells.particles().to_vector(), kept);
+    const CellListView<double, 2> fresh = cells.view(seq);
+    ASSERT_EQ(fresh.points.size(), kept_points.size());
+    for (Index k = 0; k < fresh.points.size(); ++k) EXPECT_EQ(fresh.points[k].position(), kept_points[k]) << k;
+    // One particle over a cell face, one out of the box, one NaN: each alone is a change.
+    const double h = moved[3][0] > 0.5 ? -cells.grid().axis_cell_size[0] : cells.grid().axis_cell_size[0];
+    for (const Vec<double, 2>& q : {Vec<double, 2>{{moved[3][0] + h, moved[3][1]}}, Vec<double, 2>{{-0.5, moved[3][1]}},
+                                    Vec<double, 2>{{std::numeric_limits<double>::quiet_NaN(), 0.5}}}) {
+      std::vector<Vec<double, 2>> one = moved;
+      one[3] = q;
+      x.assign(one);
+      const bool same_bucket = q[0] < 0 && outside == OutsideParticles::clamp &&
+                               cells.grid().place(q).cell == cells.grid().place(moved[3]).cell;
+      EXPECT_EQ(cells.keep_if_cells_unchanged(policy), same_bucket) << q[0];
+    }
+  }
+}
+
 TEST(HostSearchGrid, GeometryAndErrors) {
   using G = SearchGrid<double, 2>;
   const Box<double, 2> unit{Vec<double, 2>{}, Vec<double, 2>::constant(1.0)};

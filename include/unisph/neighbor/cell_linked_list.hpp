@@ -248,6 +248,25 @@ struct FillCells {
   }
 };
 
+// Sets changed[0] where particle i would now fall in another bucket than the one it was binned
+// in (the bucket CountParticles gives it), or its position is not finite (which the next build
+// reports).
+template <class T, int D>
+struct CheckBuckets {
+  SearchGrid<T, D> grid;
+  bool flag_outside;
+  std::uint32_t flagged_bucket;
+  View<const Vec<T, D>> positions;
+  View<const std::uint32_t> bucket_of;
+  View<unsigned long long> changed;
+  UNISPH_HOST_DEVICE void operator()(Index i) const {
+    const CellPlacement<D> p = grid.place(positions[i]);
+    std::uint32_t bucket = static_cast<std::uint32_t>(grid.linear_index(p.cell));
+    if (p.status != placement_inside && flag_outside) bucket = flagged_bucket;
+    raise_flag_if(bucket != bucket_of[i] || (p.status & placement_non_finite), &changed[0]);
+  }
+};
+
 // The positions copied into the list's order, unless the particles are already in cell order
 // (counters[3] == 0: set by CheckCellOrder, which ran before). A gather after the fill: the
 // writes are contiguous and the reads follow the particles of each cell (measured on an H100
@@ -361,6 +380,31 @@ class CellLinkedList {
     ++builds_;
   }
 
+  // After the positions moved, with the particles and their order as at the last build: true
+  // where every particle is still in the bucket it was binned in, so that the lists stand as
+  // they are (a build would give the same ones) and only the cell-ordered copy of the
+  // positions, where kept, is refreshed; false where a build must follow. Waits for the check
+  // on the device (one flag). Moving walls re-bin this way: a paddle's particles cross a cell
+  // face in a few advection steps of a hundred, and a build sorts every wall particle.
+  template <ExecutionPolicy P>
+  bool keep_if_cells_unchanged(P policy) {
+    const Index n = positions_.size();
+    if (builds_ == 0 || n != built_count_) return false;
+    changed_.resize(1);
+    View<unsigned long long> changed = changed_.write(policy);
+    particle_for(policy, 1, cell_list_detail::ZeroCounts{{}, changed});
+    particle_for(policy, n,
+                 cell_list_detail::CheckBuckets<T, D>{grid_, outside_ == OutsideParticles::flag,
+                                                      static_cast<std::uint32_t>(grid_.cell_count()),
+                                                      positions_.read(policy), bucket_of_.read(policy), changed});
+    if (changed_.read(MemorySpace::host)[0] != 0) return false;
+    if (store_points_)
+      particle_for(policy, n,
+                   cell_list_detail::CopyPointsInCellOrder<T, D>{particles_.read(policy), positions_.read(policy),
+                                                                 counters_.read(policy), points_.write(policy)});
+    return true;
+  }
+
   // How many times build() ran: relations compare it to tell stale stored lists.
   std::uint64_t builds() const { return builds_; }
 
@@ -458,6 +502,7 @@ class CellLinkedList {
   DiscreteVariable<unsigned long long> counters_;
   DiscreteVariable<CellPoint<T, D>> points_;
   DiscreteVariable<std::uint64_t> keys_;  // ordered by id: the sort keys
+  DiscreteVariable<unsigned long long> changed_{"CellList.BucketChanged"};  // keep_if_cells_unchanged
   DiscreteVariable<std::uint32_t> run_end_{"CellList.RunEnd"};  // ordered by id (find_runs)
   DiscreteVariable<std::uint32_t> run_starts_{"CellList.RunStarts"};
   DiscreteVariable<std::uint32_t> run_before_{"CellList.RunsBefore"};

@@ -1082,8 +1082,10 @@ struct WeaklyCompressibleSolver<T, D>::State {
       if (walls_move) place_walls(p, time);  // moving walls at the step's end
       if (share && (walls_move || rebalanced)) {
         redistribute_walls(p, true);
-      } else if (walls_move) {
-        // Sorted with the fluid and binned again.
+      } else if (walls_move && !wall_cells.keep_if_cells_unchanged(p)) {
+        // Sorted with the fluid and binned again where a wall particle changed its cell; while
+        // none does, the walls keep their (cell, id) order and their lists, which a sort and a
+        // build would give again.
         if (sort_now) wall_sorter.sort(p);
         wall_cells.build(p);
       }
