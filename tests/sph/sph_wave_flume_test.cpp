@@ -68,9 +68,10 @@ std::string flume_case(double dx, double length, double stroke, double period, s
 
 UNISPH_POLICY_TEST_SUITE(WaveFlume);
 
-// 200 advection steps on Policy against seq; `corrected`: with fluid.kernel_gradient_correction.
+// 200 advection steps on Policy against seq; `corrected`: with fluid.kernel_gradient_correction;
+// `shifting`: fluid.particle_shifting.
 template <class Policy>
-void expect_policies_agree_on_a_short_piston_flume(bool corrected) {
+void expect_policies_agree_on_a_short_piston_flume(bool corrected, double shifting = 0) {
   // With a velocity probe at mid-depth, 1 from the paddle ([[velocity_probe]]), and a damping zone
   // from 1.5 to the far wall that the wave reaches within the run ([damping_zone]).
   CaseDescription c = parse_case(flume_case(0.05, 4.0, 0.1, 2.0, {2.0}, 10.0, 0.0) +
@@ -79,6 +80,7 @@ void expect_policies_agree_on_a_short_piston_flume(bool corrected) {
                                  "piston_flume_2d.toml");
   c.neighbor_search = "stored";  // the same method on every policy
   c.kernel_gradient_correction = corrected;
+  c.particle_shifting = shifting;
   WeaklyCompressibleSolver<double, 2> reference(c, PolicyKind::seq);
   WeaklyCompressibleSolver<double, 2> solver(c, kind_of<Policy>());
   for (int step = 0; step < 200; ++step) {
@@ -97,7 +99,9 @@ void expect_policies_agree_on_a_short_piston_flume(bool corrected) {
   }
   std::printf("%s piston flume%s, 200 advection steps (t = %.3f, %d water particles): position %.2e, velocity %.2e "
               "relative to seq (bound 1e-9)\n",
-              std::string(Policy::test_label).c_str(), corrected ? " (kernel gradient corrected)" : "", solver.time(),
+              std::string(Policy::test_label).c_str(),
+              shifting > 0 ? " (kernel gradient corrected, particles shifted)" : corrected ? " (kernel gradient corrected)" : "",
+              solver.time(),
               int(x.size()), position, velocity / speed);
   EXPECT_EQ(solver.advection_steps(), reference.advection_steps());
   EXPECT_LE(position, 1e-9);
@@ -128,6 +132,10 @@ TYPED_TEST(WaveFlume, PolicesAgreeOnAShortPistonFlume) { expect_policies_agree_o
 
 TYPED_TEST(WaveFlume, PolicesAgreeWithTheKernelGradientCorrection) {
   expect_policies_agree_on_a_short_piston_flume<TypeParam>(true);
+}
+
+TYPED_TEST(WaveFlume, PolicesAgreeWithParticleShifting) {
+  expect_policies_agree_on_a_short_piston_flume<TypeParam>(true, 0.4);
 }
 
 TYPED_TEST(WaveFlume, DISABLED_PistonWaveHeightAtKd1) {

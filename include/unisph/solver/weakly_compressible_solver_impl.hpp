@@ -33,6 +33,7 @@
 #include "unisph/solver/rank_share.hpp"
 #include "unisph/solver/solver_checkpoint.hpp"
 #include "unisph/sph/moving_walls.hpp"
+#include "unisph/sph/particle_shifting.hpp"
 #include "unisph/sph/wall_load.hpp"
 #include "unisph/sph/velocity_probe.hpp"
 #include "unisph/sph/wave_gauge.hpp"
@@ -445,6 +446,14 @@ struct WeaklyCompressibleSolver<T, D>::State {
           fluid, inner, contact, kernel, wall_volume, wall_free, *kernel_correction);
       corrected_pressure_relaxation =
           std::make_unique<CorrectedPressureRelaxation<T, D>>(pressure_relaxation, *kernel_correction);
+    }
+    if (c.particle_shifting > 0) {
+      const std::string where = c.source + ":" + std::to_string(c.particle_shifting_line) + ": key 'fluid.particle_shifting': ";
+      // Not built yet: the shifted positions of ghosts (several ranks) and of periodic images.
+      if (fluid_images) throw CaseFileError(where + "particle shifting is not available in a periodic domain yet");
+      if (comm && comm->size() > 1) throw CaseFileError(where + "particle shifting is not available on several ranks yet");
+      particle_shifting = std::make_unique<ParticleShifting<T, D>>(fluid, inner, contact, kernel, T(c.dx), wall_volume,
+                                                                   T(c.particle_shifting));
     }
     if (c.loads) make_wall_load(c);
     if (c.damping_zone.present()) {
@@ -985,6 +994,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
         fail(s.str());
       }
       std::uint64_t steps_here = 0;
+      shift_particles(p);
       // The density from the kernel sum, or from the continuity equation alone (docs/sph.md, "Density").
       if (description.density_method != "continuity") density_summation.exec(p);
       if (fluid_images) fluid_images->refresh(p, fluid.density);  // prior acceleration reads rho_j
@@ -1356,6 +1366,17 @@ struct WeaklyCompressibleSolver<T, D>::State {
   }
   // B of every owned fluid particle from the step's positions, then of the images and ghosts
   // (their own neighbourhoods are cut off by the halo: they take their source's).
+  // fluid.particle_shifting: every fluid particle moved back towards an even arrangement
+  // (particle_shifting.hpp), at the start of the advection step, before the density is summed.
+  template <class P>
+  void shift_particles(P p) {
+    if (!particle_shifting) return;
+    particle_shifting->exec(p);
+    particle_for(p, fluid.size(),
+                 ApplyParticleShift<T, D>{fluid.position.read_write(p), particle_shifting->shifts().read(p)});
+    refresh_records.exec(p);  // the neighbour records hold the positions
+  }
+
   template <class P>
   void update_kernel_correction(P p) {
     if (!kernel_correction_matrices) return;
@@ -1462,6 +1483,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
   DiscreteVariable<StoredRigidMotion<D>> motions{"WallMotions"};
   std::vector<std::unique_ptr<MotionTable>> motion_tables;
   std::unique_ptr<MoveWalls<T, D>> move_walls;
+  std::unique_ptr<ParticleShifting<T, D>> particle_shifting;  // fluid.particle_shifting > 0
   bool walls_held = false;  // through the settling stage
   // report.loads: the wall loads, their dt-weighted sum over the acoustic steps of the current
   // advection step, and the mean over the last one.
