@@ -132,11 +132,14 @@ std::size_t differing_bits(const std::vector<std::vector<double>>& a, const std:
 // `search`: "stored" (the shared case's) or "direct" (the device default: every pass searches
 // the cells anew and reads the neighbours' records, in cell order on one rank, by the runs of
 // the id-ordered list on several).
+// `shifting`: fluid.particle_shifting (the neighbours' records of ghosts and images after the move).
 template <int D>
-void agrees_with_one_rank(PolicyKind kind, int steps, const char* search = "stored", bool periodic = false) {
+void agrees_with_one_rank(PolicyKind kind, int steps, const char* search = "stored", bool periodic = false,
+                          double shifting = 0) {
   const comm::Communicator comm = comm::Communicator::world();
   CaseDescription c = periodic ? periodic_collapse(D) : small_dam_break(D);
   c.neighbor_search = search;
+  c.particle_shifting = shifting;
   WeaklyCompressibleSolver<double, D> many(c, kind, comm);
   for (int k = 0; k < steps; ++k) many.advance(c.end_time);
   const ObserverSample seen = many.observe();
@@ -232,6 +235,13 @@ TYPED_TEST(SolverRanks, PeriodicCollapse2DAgreesWithOneRank) {
 }
 TYPED_TEST(SolverRanks, PeriodicCollapse3DDirectSearchAgreesWithOneRank) {
   agrees_with_one_rank<3>(kind_of<TypeParam>(), 200, "direct", true);
+}
+// Particle shifting: the shift reads the ghosts' and images' records, and moves them after.
+TYPED_TEST(SolverRanks, DamBreak2DParticleShiftingAgreesWithOneRank) {
+  agrees_with_one_rank<2>(kind_of<TypeParam>(), 200, "direct", false, 0.4);
+}
+TYPED_TEST(SolverRanks, PeriodicCollapse2DParticleShiftingAgreesWithOneRank) {
+  agrees_with_one_rank<2>(kind_of<TypeParam>(), 200, "stored", true, 0.4);
 }
 
 }  // namespace

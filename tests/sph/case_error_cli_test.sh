@@ -11,11 +11,11 @@ sed 's/^sound_speed = 20.0.*/sound_speed = 20.0\nspeed_of_sound = 20.0/' "$cases
 sed '/^density = 1.0/d' "$cases/dambreak_2d.toml" > "$work/missing.toml"
 sed 's/^continuity_dissipation = true.*/continuity_dissipation = true\nkernel_gradient_correction = 1/' "$cases/dambreak_2d.toml" > "$work/not_boolean.toml"
 sed 's/^continuity_dissipation = true.*/continuity_dissipation = true\nparticle_shifting = 2.0/' "$cases/dambreak_2d.toml" > "$work/shifting_too_large.toml"
-sed 's/^viscosity = 0.1.*/viscosity = 0.1\nparticle_shifting = 0.4/' "$cases/poiseuille_2d.toml" > "$work/shifting_periodic.toml"
+sed 's/^continuity_dissipation = true.*/continuity_dissipation = true\nparticle_shifting = -0.4/' "$cases/dambreak_2d.toml" > "$work/shifting_negative.toml"
 status=0
 for case in negative_dx:geometry.dx big_column:geometry.column wrong_type:physics.gravity unknown_key:fluid.speed_of_sound missing:fluid.density \
             not_boolean:fluid.kernel_gradient_correction shifting_too_large:fluid.particle_shifting \
-            shifting_periodic:fluid.particle_shifting; do
+            shifting_negative:fluid.particle_shifting; do
   name=${case%%:*}; key=${case#*:}
   "$exe" run "$work/$name.toml" --output "$work/out_$name" --policy seq > "$work/$name.out" 2> "$work/$name.err"
   rc=$?

@@ -447,14 +447,9 @@ struct WeaklyCompressibleSolver<T, D>::State {
       corrected_pressure_relaxation =
           std::make_unique<CorrectedPressureRelaxation<T, D>>(pressure_relaxation, *kernel_correction);
     }
-    if (c.particle_shifting > 0) {
-      const std::string where = c.source + ":" + std::to_string(c.particle_shifting_line) + ": key 'fluid.particle_shifting': ";
-      // Not built yet: the shifted positions of ghosts (several ranks) and of periodic images.
-      if (fluid_images) throw CaseFileError(where + "particle shifting is not available in a periodic domain yet");
-      if (comm && comm->size() > 1) throw CaseFileError(where + "particle shifting is not available on several ranks yet");
+    if (c.particle_shifting > 0)
       particle_shifting = std::make_unique<ParticleShifting<T, D>>(fluid, inner, contact, kernel, T(c.dx), wall_volume,
                                                                    T(c.particle_shifting));
-    }
     if (c.loads) make_wall_load(c);
     if (c.damping_zone.present()) {
       Vector e{};
@@ -1000,7 +995,8 @@ struct WeaklyCompressibleSolver<T, D>::State {
       if (fluid_images) fluid_images->refresh(p, fluid.density);  // prior acceleration reads rho_j
       if (share) share->refresh(p, fluid_body, *fluid_halo, ghost_density_name);
       update_kernel_correction(p);
-      double travelled = 0;  // several ranks: the farthest a particle can have moved in this step
+      // Several ranks: the farthest a particle can have moved in this step (its shift included).
+      double travelled = particle_shifting ? double(particle_shifting->largest_shift()) : 0.0;
       prior_acceleration.exec(p);
       // Each acoustic step: pressure start (rho, p, x), pressure relaxation (a), velocity
       // update (v, x) with the largest speed, density relaxation (drho/dt), density update
@@ -1368,13 +1364,19 @@ struct WeaklyCompressibleSolver<T, D>::State {
   // (their own neighbourhoods are cut off by the halo: they take their source's).
   // fluid.particle_shifting: every fluid particle moved back towards an even arrangement
   // (particle_shifting.hpp), at the start of the advection step, before the density is summed.
+  // The shifts read the neighbours' records, current at the step's start (the last rebuild
+  // refreshed the owned particles' and the ghosts'; the images' are refreshed here); after the
+  // move the owned particles', the images' and the ghosts' records and positions follow it.
   template <class P>
   void shift_particles(P p) {
     if (!particle_shifting) return;
+    if (fluid_images) refresh_image_records(p);
     particle_shifting->exec(p);
     particle_for(p, fluid.size(),
                  ApplyParticleShift<T, D>{fluid.position.read_write(p), particle_shifting->shifts().read(p)});
-    refresh_records.exec(p);  // the neighbour records hold the positions
+    refresh_records.exec(p);
+    if (fluid_images) refresh_image_records(p);
+    if (share) refresh_ghost_records(p);
   }
 
   template <class P>

@@ -11,7 +11,9 @@
 // of the lattice's) only the part of dr_i along the surface is kept, so that no particle is
 // pushed out of the water or into it. |dr_i| is capped at 0.1 h. The other variables are not
 // re-interpolated to the new positions (as SPHinXsys' correction): the density is summed anew
-// right after, and the shift is small.
+// right after, and the shift is small. A particle's neighbours are read through the records
+// (neighbor_records.hpp: x_j and V_j), which the ghosts of other ranks and the periodic images
+// carry as their sources have them: the shift is the same on any number of ranks.
 //
 // Why: with the pair geometry taken fresh at every acoustic step (the direct search, the GPU's
 // default) a standing wave lost about 5.5 % of its amplitude per period at any resolution, and the
@@ -24,6 +26,7 @@
 #include "unisph/neighbor/contact_relation.hpp"
 #include "unisph/neighbor/inner_relation.hpp"
 #include "unisph/sph/fluid_variables.hpp"
+#include "unisph/sph/neighbor_records.hpp"
 #include "unisph/smoothing/wendland_kernel.hpp"
 
 namespace unisph::sph {
@@ -43,7 +46,7 @@ class ParticleShifting : public InteractionDynamics<ParticleShifting<T, D>> {
 
   struct Kernel {
     NeighborSearch<T, D> inner, contact;
-    View<const T> mass, density;
+    View<const PositionVolume<T, D>> records;  // V_j = m_j / rho_j of every fluid particle, ghosts too
     View<Vec<T, D>> shift;
     WendlandC2Kernel<T, D> kernel;
     T wall_volume;
@@ -53,9 +56,9 @@ class ParticleShifting : public InteractionDynamics<ParticleShifting<T, D>> {
 
     UNISPH_HOST_DEVICE void interaction(Index i, Real) const {
       Vec<T, D> gradient{};
-      T sum = kernel.value(T(0)) * mass[i] / density[i];
+      T sum = kernel.value(T(0)) * records[i].volume;
       inner.for_each_neighbor(i, [&](Index j, const NeighborPair<T, D>& p) {
-        const T volume = mass[j] / density[j];
+        const T volume = records[j].volume;
         gradient += p.direction() * (kernel.derivative(p.distance()) * volume);
         sum += kernel.value(p.distance()) * volume;
       });
@@ -81,11 +84,13 @@ class ParticleShifting : public InteractionDynamics<ParticleShifting<T, D>> {
   Kernel make_kernel(KernelContext& c) {
     shift_.resize(fluid_.size());
     const T h = kernel_.h;
-    return {inner_.search(c), contact_.search(c), c.read(fluid_.mass), c.read(fluid_.density), c.write(shift_),
-            kernel_,          wall_volume_,       coefficient_ * h * h,  T(0.1) * h,           surface_sum_};
+    return {inner_.search(c), contact_.search(c), c.read(fluid_.neighbor_position_volume), c.write(shift_),
+            kernel_,          wall_volume_,       coefficient_ * h * h,                      T(0.1) * h,
+            surface_sum_};
   }
-  Index size() const { return fluid_.size(); }
+  Index size() const { return fluid_.size(); }  // the owned particles
   DiscreteVariable<Vec<T, D>>& shifts() { return shift_; }
+  T largest_shift() const { return T(0.1) * kernel_.h; }
 
  private:
   FluidVariables<T, D>& fluid_;
