@@ -656,7 +656,6 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
   c.density_method = r.choice(fluid, "fluid.", "density_method", {"summation", "continuity"});
   c.density_diffusion = r.non_negative(fluid, "fluid.", "density_diffusion", 0.0);
   c.particle_shifting = r.non_negative(fluid, "fluid.", "particle_shifting", 0.0);
-  if (const toml::node* node = fluid.get("particle_shifting")) c.particle_shifting_line = int(node->source().begin.line);
   // Larger shifts than Lind's and SPHinXsys' A = 0.4 were not tried; a particle's shift is capped
   // at 0.1 h anyway.
   if (c.particle_shifting > 1)

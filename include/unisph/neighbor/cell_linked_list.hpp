@@ -126,6 +126,15 @@ struct ZeroCounts {
   }
 };
 
+// The bucket of a particle placed at p: its cell, or the flagged bucket for one outside the box
+// (or not finite) where the list flags them.
+template <class T, int D>
+UNISPH_HOST_DEVICE std::uint32_t bucket_of_placement(const SearchGrid<T, D>& grid, const CellPlacement<D>& p,
+                                                     bool flag_outside, std::uint32_t flagged_bucket) {
+  if (p.status != placement_inside && flag_outside) return flagged_bucket;
+  return static_cast<std::uint32_t>(grid.linear_index(p.cell));
+}
+
 template <class T, int D>
 struct CountParticles {
   SearchGrid<T, D> grid;
@@ -140,14 +149,11 @@ struct CountParticles {
 
   UNISPH_HOST_DEVICE void operator()(Index i) const {
     const CellPlacement<D> p = grid.place(positions[i]);
-    std::uint32_t bucket = static_cast<std::uint32_t>(grid.linear_index(p.cell));
+    const std::uint32_t bucket = bucket_of_placement(grid, p, flag_outside, flagged_bucket);
     if (p.status != placement_inside) {
       if ((p.status & placement_out_of_box) && i < reported) atomic_add(&counters[0], 1ull);
       if ((p.status & placement_non_finite) && i < reported) atomic_add(&counters[1], 1ull);
-      if (flag_outside) {
-        bucket = flagged_bucket;
-        atomic_add(&counters[2], 1ull);
-      }
+      if (flag_outside) atomic_add(&counters[2], 1ull);
     }
     bucket_of[i] = bucket;
     const std::uint32_t slot = atomic_increment_shared(&counts[bucket]);
@@ -261,8 +267,7 @@ struct CheckBuckets {
   View<unsigned long long> changed;
   UNISPH_HOST_DEVICE void operator()(Index i) const {
     const CellPlacement<D> p = grid.place(positions[i]);
-    std::uint32_t bucket = static_cast<std::uint32_t>(grid.linear_index(p.cell));
-    if (p.status != placement_inside && flag_outside) bucket = flagged_bucket;
+    const std::uint32_t bucket = bucket_of_placement(grid, p, flag_outside, flagged_bucket);
     raise_flag_if(bucket != bucket_of[i] || (p.status & placement_non_finite), &changed[0]);
   }
 };

@@ -175,9 +175,8 @@ struct CaseDescription {
   // delta of delta-SPH's density-diffusion term (sph/density_diffusion.hpp); 0: none.
   double density_diffusion = 0;
   // A of the particle shifting dr = -A h^2 grad C once per advection step (sph/particle_shifting.hpp);
-  // 0: none. Its line in the case file, for the solver's messages.
+  // 0: none.
   double particle_shifting = 0;
-  int particle_shifting_line = 0;
   // [physics]
   double gravity = 0;                  // |g|
   std::vector<double> gravity_vector;  // g itself (D values): (0, -gravity(, 0)) in the short form

@@ -1360,8 +1360,6 @@ struct WeaklyCompressibleSolver<T, D>::State {
     else
       pressure_relaxation.exec(p, dt);
   }
-  // B of every owned fluid particle from the step's positions, then of the images and ghosts
-  // (their own neighbourhoods are cut off by the halo: they take their source's).
   // fluid.particle_shifting: every fluid particle moved back towards an even arrangement
   // (particle_shifting.hpp), at the start of the advection step, before the density is summed.
   // The shifts read the neighbours' records, current at the step's start (the last rebuild
@@ -1379,6 +1377,8 @@ struct WeaklyCompressibleSolver<T, D>::State {
     if (share) refresh_ghost_records(p);
   }
 
+  // B of every owned fluid particle from the step's positions, then of the images and ghosts
+  // (their own neighbourhoods are cut off by the halo: they take their source's).
   template <class P>
   void update_kernel_correction(P p) {
     if (!kernel_correction_matrices) return;

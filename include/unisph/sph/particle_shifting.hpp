@@ -85,7 +85,7 @@ class ParticleShifting : public InteractionDynamics<ParticleShifting<T, D>> {
     shift_.resize(fluid_.size());
     const T h = kernel_.h;
     return {inner_.search(c), contact_.search(c), c.read(fluid_.neighbor_position_volume), c.write(shift_),
-            kernel_,          wall_volume_,       coefficient_ * h * h,                      T(0.1) * h,
+            kernel_,          wall_volume_,       coefficient_ * h * h,                      largest_shift(),
             surface_sum_};
   }
   Index size() const { return fluid_.size(); }  // the owned particles
