@@ -259,3 +259,46 @@ TEST(HostRigidMotion, BadVectorsAreOneLineErrors) {
 }
 
 }  // namespace
+
+// swept_box holds every position a point takes at t >= 0 and is tight (the samples reach its
+// faces): a flap turning ±12° about its hinge (2D), a tank that sways and rolls about a skew axis
+// (3D, a rotation of ±50° and a translation: the box adds the two ranges, which the path need not
+// reach at once, so it holds the path without touching it; the roll alone is tight), a plate turning by more than a whole turn (its
+// circle), a piston; a constant speed sweeps no bounded box.
+template <int D>
+void expect_swept_box_holds_the_path(const RigidMotion<D>& m, const Vecd<D>& x0, Real until, const char* what,
+                                     bool tight = true) {
+  const SweptBox<D> box = swept_box(m, x0);
+  ASSERT_TRUE(box.bounded) << what;
+  Vecd<D> lowest = m.position(x0, Real(0)), highest = lowest;
+  const int samples = 100000;
+  for (int i = 0; i <= samples; ++i) {
+    const Vecd<D> x = m.position(x0, until * Real(i) / samples);
+    for (int a = 0; a < D; ++a) {
+      EXPECT_GE(x[a], box.lower[a] - 64 * eps) << what << ", axis " << a << ", sample " << i;
+      EXPECT_LE(x[a], box.upper[a] + 64 * eps) << what << ", axis " << a << ", sample " << i;
+      lowest[a] = std::min(lowest[a], x[a]), highest[a] = std::max(highest[a], x[a]);
+    }
+  }
+  for (int a = 0; a < D && tight; ++a) {
+    EXPECT_NEAR(lowest[a], box.lower[a], 1e-6) << what << ", axis " << a;
+    EXPECT_NEAR(highest[a], box.upper[a], 1e-6) << what << ", axis " << a;
+  }
+}
+
+TEST(HostRigidMotion, SweptBoxHoldsEveryPositionAndIsTight) {
+  const Real degree = pi / 180;
+  const RigidMotion<2> flap = rigid_motion<2>(make_rotation(Vec2d{{0, -0.1}}, sinusoid_law(12 * degree, Real(4.5), 0, 2)));
+  expect_swept_box_holds_the_path<2>(flap, Vec2d{{-0.05, 1.4}}, Real(30), "flap, top");
+  expect_swept_box_holds_the_path<2>(flap, Vec2d{{0.0, 0.2}}, Real(30), "flap, near the hinge");
+  const RigidMotion<2> piston = rigid_motion<2>(make_translation(Vec2d{{1, 0}}, sinusoid_law(Real(0.05), Real(7.2), 0, 2)));
+  expect_swept_box_holds_the_path<2>(piston, Vec2d{{-0.1, 0.7}}, Real(40), "piston");
+  const RigidMotion<2> spinning = rigid_motion<2>(make_rotation(Vec2d{{1, 1}}, sinusoid_law(Real(4), Real(3))));
+  expect_swept_box_holds_the_path<2>(spinning, Vec2d{{1.5, 0.2}}, Real(12), "more than a whole turn");
+  const RigidMotion<3> tank = rigid_motion<3>(make_translation(Vec3d{{1, 0.5, 0}}, sinusoid_law(Real(0.3), Real(2), 0, 1)),
+                                              make_rotation(Vec3d{{0.5, 0.5, 0.2}}, Vec3d{{0.3, 1, 0.2}},
+                                                            sinusoid_law(50 * degree, Real(3.3), Real(0.4))));
+  expect_swept_box_holds_the_path<3>(tank, Vec3d{{1.0, 0.1, 0.9}}, Real(66), "sway and roll", false);
+  expect_swept_box_holds_the_path<3>(rigid_motion<3>(tank.rotation), Vec3d{{1.0, 0.1, 0.9}}, Real(66), "roll");
+  EXPECT_FALSE(swept_box(rigid_motion<2>(make_translation(Vec2d{{0, 1}}, constant_rate_law(Real(0.5)))), Vec2d{{0, 0}}).bounded);
+}

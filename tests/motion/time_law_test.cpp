@@ -347,3 +347,36 @@ TEST(HostTimeLaw, BadLawArgumentsAreOneLineErrors) {
 }
 
 }  // namespace
+
+// value_range holds every value a law takes at t >= 0 and reaches its ends: a ramped sinusoid
+// (its amplitude), a table whose spline overshoots its knots (the turning points between them),
+// a constant rate (unbounded unless zero).
+TEST(HostTimeLaw, ValueRangeHoldsEveryValueAndReachesItsEnds) {
+  const auto check = [](const TimeLaw& law, Real until, const char* what) {
+    const LawRange r = value_range(law);
+    ASSERT_TRUE(r.bounded) << what;
+    Real lowest = std::numeric_limits<Real>::max(), highest = -lowest;
+    const int samples = 200000;
+    for (int i = 0; i <= samples; ++i) {
+      const Real q = law(until * Real(i) / samples).value;
+      EXPECT_GE(q, r.lowest - 64 * eps) << what << " at sample " << i;
+      EXPECT_LE(q, r.highest + 64 * eps) << what << " at sample " << i;
+      lowest = std::min(lowest, q), highest = std::max(highest, q);
+    }
+    // The samples come within the spacing's reach of the exact ends.
+    EXPECT_NEAR(lowest, r.lowest, 1e-6) << what;
+    EXPECT_NEAR(highest, r.highest, 1e-6) << what;
+  };
+  check(sinusoid_law(Real(0.05), Real(7.2), Real(0.3), Real(2), Real(1)), Real(60), "sinusoid");
+  check(sinusoid_law(Real(-0.2), Real(1.5)), Real(10), "sinusoid of negative amplitude");
+  // Knots 0, 1, 0, -0.5, -0.5 at uneven times: the natural spline bulges past 1 and below -0.5.
+  MotionTable table(MotionTableRows{"rows", {0.5, 1.0, 2.5, 3.0, 4.0}, {0.0, 1.0, 0.0, -0.5, -0.5}, {}});
+  const TimeLaw tabled = table.law(MemorySpace::host);
+  const LawRange r = value_range(tabled);
+  EXPECT_GT(r.highest, Real(1.0)) << "the spline overshoots its largest knot";
+  EXPECT_LT(r.lowest, Real(-0.5)) << "and its smallest";
+  check(tabled, Real(5), "table");
+  EXPECT_FALSE(value_range(constant_rate_law(Real(0.1))).bounded);
+  EXPECT_TRUE(value_range(constant_rate_law(Real(0))).bounded);
+  EXPECT_EQ(value_range(no_motion()).highest, Real(0));
+}

@@ -195,6 +195,50 @@ TEST(HostSphWallFreeBox, HoldsNoPointWithinTheCutoffOfTheWall) {
   }
 }
 
+// A moving wall particle's swept box is kept clear of as a whole: a flume's piston swept
+// +-0.05 along x, its floor and far wall at rest. The box keeps the cutoff from every point of
+// every swept box, still holds the water beyond the piston's reach, and equals the box of the
+// points where every extent is a point.
+TEST(HostSphWallFreeBox, KeepsClearOfTheBoxesMovingWallsSweep) {
+  using Extent = WallFreeBox<double, 2>::Extent;
+  const double dx = 0.02, cutoff = 2 * 1.3 * dx;
+  std::vector<Vec<double, 2>> points;
+  std::vector<Extent> extents;
+  const auto add = [&](double x, double y, double sweep) {
+    points.push_back(Vec<double, 2>{x, y});
+    extents.push_back(Extent{{x - sweep, y}, {x + sweep, y}});
+  };
+  for (int i = 0; i < 400; ++i)
+    for (int k = 0; k < 4; ++k) add(-0.5 + (i + 0.5) * dx, -(k + 0.5) * dx, 0.0);  // the floor
+  for (int j = 0; j < 60; ++j)
+    for (int k = 0; k < 4; ++k) add(7.5 + (k + 0.5) * dx, (j + 0.5) * dx, 0.0);  // the far wall
+  for (int j = 0; j < 75; ++j)
+    for (int k = 0; k < 4; ++k) add(-(k + 0.5) * dx, (j + 0.5) * dx, 0.05);  // the piston
+  const Vec<double, 2> lower{-1.0, -0.2}, upper{8.0, 2.0}, seed{3.0, 0.5};
+  const WallFreeBox<double, 2> box = WallFreeBox<double, 2>::around(extents, lower, upper, seed, cutoff);
+  ASSERT_LT(box.lower[0], box.upper[0]);
+  double nearest = 1e300;
+  for (const Extent& e : extents) {
+    double d2 = 0;
+    for (int a = 0; a < 2; ++a) {
+      const double gap = std::max({e.lower[a] - box.upper[a], box.lower[a] - e.upper[a], 0.0});
+      d2 += gap * gap;
+    }
+    nearest = std::min(nearest, std::sqrt(d2));
+  }
+  EXPECT_GT(nearest, cutoff);
+  EXPECT_NEAR(box.lower[0], 0.05 - 0.5 * dx + 1.01 * cutoff, 1e-12) << "the piston's farthest reach plus the margin";
+  EXPECT_TRUE(box.contains(seed));
+  const WallFreeBox<double, 2> at_rest = WallFreeBox<double, 2>::around(points, lower, upper, seed, cutoff);
+  for (auto& e : extents) e.lower[0] = e.upper[0] = 0.5 * (e.lower[0] + e.upper[0]);
+  const WallFreeBox<double, 2> points_as_extents = WallFreeBox<double, 2>::around(extents, lower, upper, seed, cutoff);
+  for (int a = 0; a < 2; ++a) {
+    EXPECT_EQ(points_as_extents.lower[a], at_rest.lower[a]);
+    EXPECT_EQ(points_as_extents.upper[a], at_rest.upper[a]);
+  }
+  EXPECT_LT(at_rest.lower[0], box.lower[0]);
+}
+
 TEST(HostSphCaseFile, ReadsAValidCase) {
   const CaseDescription c = parse_case(valid_case, "case.toml");
   EXPECT_EQ(c.name, "t");

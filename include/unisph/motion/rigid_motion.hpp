@@ -15,7 +15,9 @@
 // Everything is exact (no time stepping) and UNISPH_HOST_DEVICE; the values are trivially
 // copyable for kernels. The factories (host) check their vectors and throw a one-line Error.
 
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <string>
 #include <string_view>
 
@@ -154,6 +156,65 @@ RigidMotion<D> rigid_motion(const Rotation<D>& rotation) {
 template <int D>
 RigidMotion<D> fixed_motion() {
   return {no_translation<D>(), no_rotation<D>()};
+}
+
+// The box that holds every position the material point x0 takes at any time t >= 0, or bounded
+// = false where the motion carries it without bound (a constant non-zero speed). From the laws'
+// ranges (time_law.hpp: value_range): the rotated offset r(θ) = p + u cos θ + w sin θ (p = n (n·r0),
+// u = r0 - p, w = n × r0) is at its extremes per axis at the range's ends and where θ - δ_a is a
+// multiple of π (tan δ_a = w_a / u_a), or over the whole circle where the angle may turn by 2π
+// or more; the translation adds e [s_lowest, s_highest]. Host only (a table's knots in host memory).
+template <int D>
+struct SweptBox {
+  bool bounded;
+  Vecd<D> lower, upper;
+};
+
+template <int D>
+SweptBox<D> swept_box(const RigidMotion<D>& m, const Vecd<D>& x0) {
+  const LawRange s = value_range(m.translation.law);
+  if (!s.bounded) return {false, x0, x0};
+  SweptBox<D> box{true, x0, x0};
+  if (m.rotation.law.kind != TimeLawKind::none) {
+    const LawRange theta = value_range(m.rotation.law);
+    const Vecd<D> r0 = x0 - m.rotation.pivot;
+    Vecd<D> p{}, w{};
+    if constexpr (D == 2) {
+      w = Vecd<D>{{-r0[1], r0[0]}};
+    } else {
+      p = m.rotation.axis * dot(m.rotation.axis, r0);
+      w = cross(m.rotation.axis, r0);
+    }
+    const Vecd<D> u = r0 - p;
+    const Real pi = std::numbers::pi_v<Real>;
+    const bool whole_turn = !theta.bounded || theta.highest - theta.lowest >= Real(2) * pi;
+    for (int a = 0; a < D; ++a) {
+      const Real radius = std::sqrt(u[a] * u[a] + w[a] * w[a]);
+      Real lo, hi;
+      if (whole_turn) {
+        lo = -radius, hi = radius;
+      } else {
+        const auto at = [&](Real angle) { return u[a] * std::cos(angle) + w[a] * std::sin(angle); };
+        lo = std::min(at(theta.lowest), at(theta.highest));
+        hi = std::max(at(theta.lowest), at(theta.highest));
+        if (radius > Real(0)) {
+          const Real delta = std::atan2(w[a], u[a]);  // u_a cos θ + w_a sin θ = radius cos(θ - δ)
+          for (Real k = std::ceil((theta.lowest - delta) / pi); delta + k * pi <= theta.highest; k += Real(1)) {
+            const Real v = at(delta + k * pi);
+            lo = std::min(lo, v), hi = std::max(hi, v);
+          }
+        }
+      }
+      box.lower[a] = m.rotation.pivot[a] + p[a] + lo;
+      box.upper[a] = m.rotation.pivot[a] + p[a] + hi;
+    }
+  }
+  for (int a = 0; a < D; ++a) {
+    const Real e = m.translation.direction[a];
+    box.lower[a] += std::min(e * s.lowest, e * s.highest);
+    box.upper[a] += std::max(e * s.lowest, e * s.highest);
+  }
+  return box;
 }
 
 }  // namespace unisph

@@ -12,6 +12,7 @@
 // factories (host) check their arguments and throw a one-line unisph::Error. docs/motion.md
 // writes out every formula.
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <sstream>
@@ -186,6 +187,53 @@ inline TimeLaw sinusoid_law(Real amplitude, Real period, Real phase = Real(0), R
   const Real omega = Real(2) * std::numbers::pi_v<Real> / period;
   law.sinusoid = {amplitude, omega, phase, ramp_periods * period, start};
   return law;
+}
+
+// The values a law takes over all times t >= 0: [lowest, highest], or bounded = false where q
+// grows without bound (a constant non-zero rate). A prescribed wall's swept box is made of them
+// (rigid_motion.hpp: swept_box), and the fluid far from every box skips its wall walk. Exact: a
+// sinusoid stays within its amplitude (the ramp r is within [0, 1], and q = 0 before t_s); a
+// table's spline is the knots' values and, on each interval, the cubic's turning points (the
+// roots of q' = 0 there). Host only: a table's knots must be in host memory.
+struct LawRange {
+  bool bounded;
+  Real lowest, highest;
+};
+
+inline LawRange value_range(const TimeLaw& law) {
+  switch (law.kind) {
+    case TimeLawKind::constant_rate:
+      return law.constant_rate.rate == Real(0) ? LawRange{true, Real(0), Real(0)} : LawRange{false, Real(0), Real(0)};
+    case TimeLawKind::sinusoid: {
+      const Real a = std::abs(law.sinusoid.amplitude);
+      return {true, -a, a};
+    }
+    case TimeLawKind::table: {
+      const View<const TableKnot>& k = law.table.knots;
+      if (k.size() == 0) return {true, Real(0), Real(0)};
+      LawRange r{true, k[0].value, k[0].value};
+      const auto take = [&](Real q) { r.lowest = std::min(r.lowest, q), r.highest = std::max(r.highest, q); };
+      for (Index i = 0; i + 1 < k.size(); ++i) {
+        take(k[i + 1].value);
+        // q' on [t_i, t_i+1] in b = (t - t_i)/h: (m1 - m0) h/2 b² + m0 h b + (q1 - q0)/h - (2 m0 + m1) h/6.
+        const Real h = k[i + 1].time - k[i].time, m0 = k[i].second_derivative, m1 = k[i + 1].second_derivative;
+        const Real qa = (m1 - m0) * h / Real(2), qb = m0 * h,
+                   qc = (k[i + 1].value - k[i].value) / h - (Real(2) * m0 + m1) * h / Real(6);
+        Real roots[2];
+        int n = 0;
+        if (qa == Real(0)) {
+          if (qb != Real(0)) roots[n++] = -qc / qb;
+        } else if (const Real disc = qb * qb - Real(4) * qa * qc; disc >= Real(0)) {
+          roots[n++] = (-qb + std::sqrt(disc)) / (Real(2) * qa);
+          roots[n++] = (-qb - std::sqrt(disc)) / (Real(2) * qa);
+        }
+        for (int j = 0; j < n; ++j)
+          if (roots[j] > Real(0) && roots[j] < Real(1)) take(law.table(k[i].time + roots[j] * h).value);
+      }
+      return r;
+    }
+    default: return {true, Real(0), Real(0)};
+  }
 }
 
 // A table law over knots already in memory (MotionTable::law builds it).

@@ -352,7 +352,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
                                         double cutoff) {
     if (!c.general()) return WallFreeBox<T, D>::of_tank(c.tank, p.wall, cutoff);
     for (const BodyDescription& b : c.bodies)
-      if (b.moves()) return WallFreeBox<T, D>::empty();  // the box would have to follow the walls
+      if (b.moves()) return WallFreeBox<T, D>::empty();  // made in make_wall_motions, from the swept boxes
     const Vector seed = seed_of(p);
     if (c.domain.periodic.empty()) return WallFreeBox<T, D>::around(p.wall, domain.lower, domain.upper, seed, cutoff);
     // Periodic axes: the wall particles and their images (+-L where within 1.1 cutoffs of a
@@ -447,9 +447,13 @@ struct WeaklyCompressibleSolver<T, D>::State {
       corrected_pressure_relaxation =
           std::make_unique<CorrectedPressureRelaxation<T, D>>(pressure_relaxation, *kernel_correction);
     }
-    if (c.particle_shifting > 0)
-      particle_shifting = std::make_unique<ParticleShifting<T, D>>(fluid, inner, contact, kernel, T(c.dx), wall_volume,
-                                                                   T(c.particle_shifting));
+    if (c.particle_shifting > 0) {
+      shifting_kernel_sum = &fluid_body.particles().template add_variable<T>(shifting_kernel_sum_name.front());
+      shifting_kernel_sums = std::make_unique<ShiftingKernelSum<T, D>>(fluid, inner, contact, kernel, T(c.dx),
+                                                                       wall_volume, *shifting_kernel_sum);
+      particle_shifting = std::make_unique<ParticleShifting<T, D>>(fluid, inner, contact, kernel, wall_volume,
+                                                                   T(c.particle_shifting), *shifting_kernel_sum);
+    }
     if (c.loads) make_wall_load(c);
     if (c.damping_zone.present()) {
       Vector e{};
@@ -572,6 +576,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
     MemorySpace space = MemorySpace::host;
     visit_policy(policy, [&](auto p) { space = decltype(p)::space; });
     std::vector<StoredRigidMotion<D>> list{StoredRigidMotion<D>::of(fixed_motion<D>())};
+    std::vector<RigidMotion<D>> on_host{fixed_motion<D>()};  // the same, a table's knots in host memory
     std::vector<std::uint32_t> of_group;  // per wall group (the wall bodies in order, then obstacles)
     const auto vec = [](const std::vector<double>& v) {
       Vecd<D> x{};
@@ -589,17 +594,30 @@ struct WeaklyCompressibleSolver<T, D>::State {
       try {
         Translation<D> translation = no_translation<D>();
         Rotation<D> rotation = no_rotation<D>();
-        if (b.translation.moves())
-          translation = make_translation<D>(vec(b.translation.direction), law_of(b.translation, false, space, "law"), "direction");
+        // The law in the policy's memory, and on the host (a table's knots there too).
+        const auto laws_of = [&](const MotionDescription& m, bool angle) {
+          const TimeLaw law = law_of(m, angle, space, "law");
+          const TimeLaw host = m.law == "table" ? motion_tables.back()->law(MemorySpace::host) : law;
+          return std::pair{law, host};
+        };
+        Translation<D> host_translation = translation;
+        Rotation<D> host_rotation = rotation;
+        if (b.translation.moves()) {
+          const auto [law, host] = laws_of(b.translation, false);
+          translation = make_translation<D>(vec(b.translation.direction), law, "direction");
+          host_translation = translation, host_translation.law = host;
+        }
         if (b.rotation.moves()) {
-          const TimeLaw law = law_of(b.rotation, true, space, "law");
+          const auto [law, host] = laws_of(b.rotation, true);
           if constexpr (D == 3) {
             rotation = make_rotation(vec(b.rotation.pivot), vec(b.rotation.axis), law, "axis");
           } else {
             rotation = make_rotation(vec(b.rotation.pivot), law, "pivot");
           }
+          host_rotation = rotation, host_rotation.law = host;
         }
         list.push_back(StoredRigidMotion<D>::of(rigid_motion<D>(translation, rotation)));
+        on_host.push_back(rigid_motion<D>(host_translation, host_rotation));
       } catch (const CaseFileError&) {
         throw;
       } catch (const Error& e) {
@@ -618,6 +636,21 @@ struct WeaklyCompressibleSolver<T, D>::State {
     for (std::size_t g = 0; g < wall_groups.size(); ++g)
       for (Index n = 0; n < wall_groups[g].count; ++n) index[k++] = of_group[g];
     move_walls = std::make_unique<MoveWalls<T, D>>(wall, *wall_motion, motions);
+    // The wall-free box (wall_free_box.hpp) kept clear of every place a wall particle may take:
+    // a moving one's swept box (rigid_motion.hpp), over all times; none where one moves without
+    // bound. (wall_free_of left it empty.) The whole case's walls are here (the general form is
+    // made whole on every rank before it is shared out), in id order, as `index`.
+    std::vector<typename WallFreeBox<T, D>::Extent> extents(particles.wall.size());
+    for (std::size_t q = 0; q < extents.size(); ++q) {
+      Vecd<D> x0{};
+      for (int a = 0; a < D; ++a) x0[a] = Real(particles.wall[q][a]);
+      const SweptBox<D> swept = swept_box(on_host[index[Index(q)]], x0);
+      if (!swept.bounded) return;
+      for (int a = 0; a < D; ++a) extents[q].lower[a] = double(swept.lower[a]), extents[q].upper[a] = double(swept.upper[a]);
+    }
+    wall_free = WallFreeBox<T, D>::around(extents, domain.lower, domain.upper, seed_of(particles), double(kernel.cutoff()));
+    pressure_relaxation.set_wall_free(wall_free);
+    density_relaxation.set_wall_free(wall_free);
   }
 
   // report.loads: the loads on every wall body (sph/wall_load.hpp), through the solver's own
@@ -1362,13 +1395,17 @@ struct WeaklyCompressibleSolver<T, D>::State {
   }
   // fluid.particle_shifting: every fluid particle moved back towards an even arrangement
   // (particle_shifting.hpp), at the start of the advection step, before the density is summed.
-  // The shifts read the neighbours' records, current at the step's start (the last rebuild
-  // refreshed the owned particles' and the ghosts'; the images' are refreshed here); after the
-  // move the owned particles', the images' and the ghosts' records and positions follow it.
+  // The kernel sums and the shifts read the neighbours' records, current at the step's start (the
+  // last rebuild refreshed the owned particles' and the ghosts'; the images' are refreshed here);
+  // the shifts read the neighbours' kernel sums, images' and ghosts' too. After the move the
+  // owned particles', the images' and the ghosts' records and positions follow it.
   template <class P>
   void shift_particles(P p) {
     if (!particle_shifting) return;
     if (fluid_images) refresh_image_records(p);
+    shifting_kernel_sums->exec(p);
+    if (fluid_images) fluid_images->refresh(p, *shifting_kernel_sum);
+    if (share) share->refresh(p, fluid_body, *fluid_halo, shifting_kernel_sum_name);
     particle_shifting->exec(p);
     particle_for(p, fluid.size(),
                  ApplyParticleShift<T, D>{fluid.position.read_write(p), particle_shifting->shifts().read(p)});
@@ -1486,6 +1523,9 @@ struct WeaklyCompressibleSolver<T, D>::State {
   std::vector<std::unique_ptr<MotionTable>> motion_tables;
   std::unique_ptr<MoveWalls<T, D>> move_walls;
   std::unique_ptr<ParticleShifting<T, D>> particle_shifting;  // fluid.particle_shifting > 0
+  std::unique_ptr<ShiftingKernelSum<T, D>> shifting_kernel_sums;  // its first pass
+  DiscreteVariable<T>* shifting_kernel_sum = nullptr;             // C_i / the lattice's, ghosts and images too
+  const std::vector<std::string> shifting_kernel_sum_name{"ShiftingKernelSum"};
   bool walls_held = false;  // through the settling stage
   // report.loads: the wall loads, their dt-weighted sum over the acoustic steps of the current
   // advection step, and the mean over the last one.

@@ -118,6 +118,8 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
             diffusion_};
   }
   Index size() const { return fluid_.size(); }
+  // The box where no fluid particle has a wall neighbour (set again where walls move).
+  void set_wall_free(const WallFreeBox<T, D>& box) { wall_free_ = box; }
 
  private:
   FluidVariables<T, D>& fluid_;

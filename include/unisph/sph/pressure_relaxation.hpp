@@ -171,6 +171,8 @@ class PressureRelaxation : public InteractionDynamics<PressureRelaxation<T, D>> 
             wall_.moving()};
   }
   Index size() const { return fluid_.size(); }
+  // The box where no fluid particle has a wall neighbour (set again where walls move).
+  void set_wall_free(const WallFreeBox<T, D>& box) { wall_free_ = box; }
 
  private:
   FluidVariables<T, D>& fluid_;

@@ -40,6 +40,12 @@ struct WallFreeBox {
     return box;
   }
 
+  // What a wall particle may occupy: its position, or the box it sweeps where it moves
+  // (motion/rigid_motion.hpp: swept_box).
+  struct Extent {
+    Vec<double, D> lower, upper;
+  };
+
   // For any walls: the box `start` (a domain) cut down around `seed` (a point of the water) so
   // that no wall particle lies within the margin of it. The wall particles are taken nearest the
   // seed first, and each one still near the box moves the face that separates it from the seed
@@ -48,27 +54,43 @@ struct WallFreeBox {
   // the water give a smaller box; a wall particle within the margin of the seed an empty one.
   static WallFreeBox around(const std::vector<Vec<T, D>>& wall, const Vec<T, D>& start_lower, const Vec<T, D>& start_upper,
                             const Vec<T, D>& seed, double cutoff) {
-    const double margin = 1.01 * cutoff;
+    std::vector<Extent> extents(wall.size());
+    for (std::size_t k = 0; k < wall.size(); ++k)
+      for (int a = 0; a < D; ++a) extents[k].lower[a] = extents[k].upper[a] = double(wall[k][a]);
+    return around(extents, start_lower, start_upper, seed, cutoff);
+  }
+  // The same for extents: a moving wall particle's swept box is kept clear of as a whole (its
+  // distance to the seed and along each axis is the box's nearest point's; a box that spans the
+  // seed along every axis is within the margin of it). A point gives the result above.
+  static WallFreeBox around(const std::vector<Extent>& wall, const Vec<T, D>& start_lower, const Vec<T, D>& start_upper,
+                            const Vec<T, D>& seed, double cutoff) {
+    const double margin = 1.01 * cutoff, reach = (1 - 1e-9) * margin;
     double lo[D], hi[D];
     for (int a = 0; a < D; ++a) lo[a] = double(start_lower[a]) + margin, hi[a] = double(start_upper[a]) - margin;
+    // Per axis, how far the extent lies beyond the seed (negative where it spans the seed).
+    const auto beyond = [&](const Extent& w, int a) {
+      return std::max(w.lower[a] - double(seed[a]), double(seed[a]) - w.upper[a]);
+    };
     std::vector<std::pair<double, std::size_t>> order(wall.size());
     for (std::size_t k = 0; k < wall.size(); ++k) {
       double d = 0;
-      for (int a = 0; a < D; ++a) d += (double(wall[k][a]) - double(seed[a])) * (double(wall[k][a]) - double(seed[a]));
+      for (int a = 0; a < D; ++a) d += std::max(beyond(wall[k], a), 0.0) * std::max(beyond(wall[k], a), 0.0);
       order[k] = {d, k};
     }
     std::sort(order.begin(), order.end());
     for (const auto& [distance, k] : order) {
-      const Vec<T, D>& w = wall[k];
+      const Extent& w = wall[k];
+      // Near: within the margin of the box, less a rounding's worth (a wall particle in line with
+      // one that cut a face lies exactly at the margin from it, and must not cut a second face).
       bool near = true;
-      for (int a = 0; a < D; ++a) near = near && double(w[a]) > lo[a] - margin && double(w[a]) < hi[a] + margin;
+      for (int a = 0; a < D; ++a) near = near && w.upper[a] > lo[a] - reach && w.lower[a] < hi[a] + reach;
       if (!near) continue;
       int axis = 0;
       for (int a = 1; a < D; ++a)
-        if (std::abs(double(w[a]) - double(seed[a])) > std::abs(double(w[axis]) - double(seed[axis]))) axis = a;
-      if (!(std::abs(double(w[axis]) - double(seed[axis])) > margin)) return empty();  // a wall at the seed
-      if (double(w[axis]) > double(seed[axis])) hi[axis] = std::min(hi[axis], double(w[axis]) - margin);
-      else lo[axis] = std::max(lo[axis], double(w[axis]) + margin);
+        if (beyond(w, a) > beyond(w, axis)) axis = a;
+      if (!(beyond(w, axis) > margin)) return empty();  // a wall at the seed
+      if (w.lower[axis] > double(seed[axis])) hi[axis] = std::min(hi[axis], w.lower[axis] - margin);
+      else lo[axis] = std::max(lo[axis], w.upper[axis] + margin);
     }
     for (int a = 0; a < D; ++a)
       if (!(lo[a] < hi[a])) return empty();
