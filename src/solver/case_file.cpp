@@ -537,6 +537,14 @@ void read_bodies(const Reader& r, const toml::table& root, CaseDescription& c) {
       const long long four = 4;
       const long long layers = r.integer(t, "body.", "layers", &four);
       if (layers < 1 || layers > 16) r.fail(t.get("layers"), "body.layers", "must be 1 to 16 (it is " + std::to_string(layers) + ")");
+      // The default layers must cover the kernel's support 2 h below a fluid particle half a
+      // spacing off the wall (h <= 1.75 dx). Layers the case sets are its own (a thin plate).
+      if (!t.get("layers") && double(layers) < 2 * c.smoothing_length_ratio + 0.5)
+        r.fail(&t, "body.layers",
+               "body '" + body.name + "' has the default " + std::to_string(layers) +
+                   " layers of wall particles, fewer than the " + Reader::format(2 * c.smoothing_length_ratio + 0.5) +
+                   " that cover the kernel at h / dx = " + Reader::format(c.smoothing_length_ratio) +
+                   " (2 h / dx + 0.5): set body.layers");
       body.layers = int(layers);
     }
     c.bodies.push_back(std::move(body));
@@ -614,8 +622,13 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
   // The general form ([[body]]) or the short form (geometry.tank and geometry.column), not both.
   const bool general = root.get("body") != nullptr;
   const toml::table& geometry = r.table(root, "geometry", true);
-  r.only_keys(geometry, "geometry.", {"dx", "tank", "column"});
+  r.only_keys(geometry, "geometry.", {"dx", "tank", "column", "smoothing_length_ratio"});
   c.dx = r.positive(geometry, "geometry.", "dx");
+  const double default_ratio = c.smoothing_length_ratio;
+  c.smoothing_length_ratio = r.positive(geometry, "geometry.", "smoothing_length_ratio", &default_ratio);
+  if (c.smoothing_length_ratio < 1 || c.smoothing_length_ratio > 2)
+    r.fail(geometry.get("smoothing_length_ratio"), "geometry.smoothing_length_ratio",
+           "must be 1 to 2 (h / dx; 1.3 by default; it is " + Reader::format(c.smoothing_length_ratio) + ")");
   if (general) {
     for (const char* key : {"tank", "column"})
       if (geometry.get(key))
@@ -856,6 +869,12 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
       c.obstacles.push_back(obstacle);
     }
   }
+  // The short form's tank and the obstacles have 4 layers of wall particles.
+  if ((!general || !c.obstacles.empty()) && c.smoothing_length_ratio > 1.75)
+    r.fail(geometry.get("smoothing_length_ratio"), "geometry.smoothing_length_ratio",
+           std::string(general ? "the obstacles have" : "the short form's tank has") +
+               " 4 layers of wall particles, which cover h up to 1.75 dx (it is " +
+               Reader::format(c.smoothing_length_ratio) + ")");
   return c;
 }
 

@@ -12,8 +12,14 @@ sed '/^density = 1.0/d' "$cases/dambreak_2d.toml" > "$work/missing.toml"
 sed 's/^continuity_dissipation = true.*/continuity_dissipation = true\nkernel_gradient_correction = 1/' "$cases/dambreak_2d.toml" > "$work/not_boolean.toml"
 sed 's/^continuity_dissipation = true.*/continuity_dissipation = true\nparticle_shifting = 2.0/' "$cases/dambreak_2d.toml" > "$work/shifting_too_large.toml"
 sed 's/^continuity_dissipation = true.*/continuity_dissipation = true\nparticle_shifting = -0.4/' "$cases/dambreak_2d.toml" > "$work/shifting_negative.toml"
+# h / dx out of its range; the short form's 4 wall layers too few for h = 1.9 dx; a flume's
+# bodies' default 4 layers too few for h = 1.9 dx (the first wall body is named).
+sed 's/^dx = 0.025 .*/dx = 0.025\nsmoothing_length_ratio = 2.5/' "$cases/dambreak_2d.toml" > "$work/ratio_too_large.toml"
+sed 's/^dx = 0.025 .*/dx = 0.025\nsmoothing_length_ratio = 1.9/' "$cases/dambreak_2d.toml" > "$work/ratio_short_form.toml"
+sed 's/^smoothing_length_ratio = 1.6/smoothing_length_ratio = 1.9/' "$cases/piston_flume_2d.toml" > "$work/too_few_layers.toml"
 status=0
-for case in negative_dx:geometry.dx big_column:geometry.column wrong_type:physics.gravity unknown_key:fluid.speed_of_sound missing:fluid.density \
+for case in ratio_too_large:geometry.smoothing_length_ratio ratio_short_form:geometry.smoothing_length_ratio \
+            too_few_layers:body.layers negative_dx:geometry.dx big_column:geometry.column wrong_type:physics.gravity unknown_key:fluid.speed_of_sound missing:fluid.density \
             not_boolean:fluid.kernel_gradient_correction shifting_too_large:fluid.particle_shifting \
             shifting_negative:fluid.particle_shifting; do
   name=${case%%:*}; key=${case#*:}

@@ -249,6 +249,8 @@ TEST(HostSphCaseFile, ReadsAValidCase) {
   EXPECT_EQ(c.probes[0].position[1], 0.1);
   EXPECT_EQ(c.output_interval, 0.01);
   EXPECT_EQ(c.settling_time, 0.0);
+  EXPECT_EQ(c.smoothing_length_ratio, 1.3) << "h = 1.3 dx unless the case asks another";
+  EXPECT_EQ(parse_case(replaced(valid_case, "dx = 0.1", "dx = 0.1\nsmoothing_length_ratio = 1.6"), "case.toml").smoothing_length_ratio, 1.6);
   const CaseDescription settled = parse_case(replaced(valid_case, "[physics]", "[initial]\nsettling_time = 3.0\n[physics]"), "case.toml");
   EXPECT_EQ(settled.settling_time, 3.0);
   EXPECT_EQ(settled.settling_damping, 2.0 / (2 * 0.5)) << "by default U over twice the column's height";
@@ -267,6 +269,11 @@ TEST(HostSphCaseFile, OneLineErrorsNameFileLineAndKey) {
       {replaced(valid_case, "dx = 0.1", "dx = \"fine\""), "case.toml:6: key 'geometry.dx': must be a number"},
       {replaced(valid_case, "dx = 0.1", "dx = -0.1"), "case.toml:6: key 'geometry.dx': must be positive"},
       {replaced(valid_case, "dx = 0.1", "dx = 0"), "case.toml:6: key 'geometry.dx': must be positive"},
+      {replaced(valid_case, "dx = 0.1", "dx = 0.1\nsmoothing_length_ratio = 0.8"),
+       "case.toml:7: key 'geometry.smoothing_length_ratio': must be 1 to 2 (h / dx; 1.3 by default; it is 0.8)"},
+      {replaced(valid_case, "dx = 0.1", "dx = 0.1\nsmoothing_length_ratio = 1.8"),
+       "case.toml:7: key 'geometry.smoothing_length_ratio': the short form's tank has 4 layers of wall particles, which "
+       "cover h up to 1.75 dx (it is 1.8)"},
       {replaced(valid_case, "gravity = 9.81", ""), "key 'physics.gravity': missing value"},
       {replaced(valid_case, "column = [1.0, 0.5]", "column = [3.0, 0.5]"), "case.toml:8: key 'geometry.column': the column"},
       {replaced(valid_case, "tank = [2.0, 1.5]", "tank = [2.0]"), "case.toml:7: key 'geometry.tank': must have 2 entries"},

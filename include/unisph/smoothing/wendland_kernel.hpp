@@ -1,5 +1,6 @@
 #pragma once
-// Wendland C2 smoothing kernel in 2D and 3D with smoothing length h = 1.3 dx and cutoff 2h:
+// Wendland C2 smoothing kernel in 2D and 3D with smoothing length h = 1.3 dx (or another ratio h / dx:
+// a case's geometry.smoothing_length_ratio) and cutoff 2h:
 //   W(q) = alpha / h^D (1 - q/2)^4 (1 + 2q),  q = r / h < 2,
 // alpha = 7 / (4 pi) in 2D and 21 / (16 pi) in 3D, so that W integrates to 1.
 #include <cmath>
@@ -14,15 +15,15 @@ struct WendlandC2Kernel {
   static_assert(std::is_floating_point_v<T>, "The Wendland kernel is evaluated in float or double.");
   static_assert(D == 2 || D == 3, "The Wendland C2 kernel is implemented for 2D and 3D.");
 
-  static constexpr T smoothing_length_ratio = T(1.3);  // h / dx
+  static constexpr T smoothing_length_ratio = T(1.3);  // h / dx unless a case asks another
 
   T h = T(1);
   T inverse_h = T(1);
   T normalisation = T(0);  // alpha / h^D
 
-  static WendlandC2Kernel from_spacing(T dx) {
+  static WendlandC2Kernel from_spacing(T dx, T ratio = smoothing_length_ratio) {
     WendlandC2Kernel k;
-    k.h = smoothing_length_ratio * dx;
+    k.h = ratio * dx;
     k.inverse_h = T(1) / k.h;
     const T pi = T(3.14159265358979323846);
     k.normalisation = D == 2 ? T(7) / (T(4) * pi * k.h * k.h) : T(21) / (T(16) * pi * k.h * k.h * k.h);

@@ -153,6 +153,9 @@ struct CaseDescription {
   int dimension = 2;
   // [geometry]
   double dx = 0;
+  // h / dx of the fluid's kernel (the Wendland C2 kernel's cutoff is 2 h). Wall bodies need
+  // layers >= 2 h/dx + 0.5 (the short form's tank and obstacles have 4: h <= 1.75 dx).
+  double smoothing_length_ratio = 1.3;
   std::vector<double> tank;
   std::vector<double> column;
   // [fluid]

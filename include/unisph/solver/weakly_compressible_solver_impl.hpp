@@ -104,13 +104,13 @@ struct WeaklyCompressibleSolver<T, D>::State {
     }
     if (!c.domain.periodic.empty()) {
       if (!c.general()) throw Error("case '" + c.name + "': periodic axes need the general form ([domain], [[body]])");
-      const double cutoff = double(WendlandC2Kernel<T, D>::from_spacing(T(c.dx)).cutoff());
+      const double cutoff = double(WendlandC2Kernel<T, D>::from_spacing(T(c.dx), T(c.smoothing_length_ratio)).cutoff());
       for (int a : c.domain.periodic) {
         if (a < 0 || a >= D) throw Error("case '" + c.name + "': periodic axis " + std::to_string(a) + " in a " + std::to_string(D) + "D case");
         const double length = c.domain.upper[std::size_t(a)] - c.domain.lower[std::size_t(a)];
         if (!(length >= 2 * cutoff))
           throw CaseFileError(periodic_where(c) + "the domain is " + format(length) + " wide along periodic axis " +
-                              axis_name(a) + ", narrower than two cutoffs (2 x 2.6 dx = " + format(2 * cutoff) +
+                              axis_name(a) + ", narrower than two cutoffs (2 x 2 h = " + format(2 * cutoff) +
                               "): ghost images would be wider than the domain");
         // The lattice must close on itself across the faces: a length of whole spacings.
         const double cells = length / c.dx;
@@ -377,7 +377,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
   State(const CaseDescription& c, PolicyKind kind, bool settle_now, const comm::Communicator* comm)
       : description(checked(c)),
         policy(kind),
-        kernel(WendlandC2Kernel<T, D>::from_spacing(T(c.dx))),
+        kernel(WendlandC2Kernel<T, D>::from_spacing(T(c.dx), T(c.smoothing_length_ratio))),
         initial_cut(initial_cut_of(description, comm, kernel)),
         particles(particles_of(description, kind, comm, initial_cut)),
         wall_groups(wall_groups_of(c, particles)),
