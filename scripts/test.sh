@@ -3,7 +3,7 @@
 #   1. the default preset (CUDA backend compiled where nvcc is found; GPU tests skip without a GPU)
 #   2. the asan preset (AddressSanitizer + UndefinedBehaviorSanitizer, CPU, single precision)
 #   3. install, and build + run a downstream project against the installed tree (find_package)
-#   4. the libFuzzer targets, briefly (UNISPH_FUZZ_SECONDS each, default 60)
+#   4. the libFuzzer targets, briefly (UNISPH_FUZZ_SECONDS each, default 30: the whole run inside an hour on the 2-core CI machine)
 # Prints the time of each stage.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -53,16 +53,16 @@ cmake -S tests/consumer -B build/consumer -G Ninja -DCMAKE_PREFIX_PATH="$PWD/bui
 cmake --build build/consumer
 build/consumer/consumer
 
-stage "fuzz the STL reader for ${UNISPH_FUZZ_SECONDS:-60} s"
-scripts/fuzz_stl.sh "${UNISPH_FUZZ_SECONDS:-60}"
+stage "fuzz the STL reader for ${UNISPH_FUZZ_SECONDS:-30} s"
+scripts/fuzz_stl.sh "${UNISPH_FUZZ_SECONDS:-30}"
 
-stage "fuzz the polygon reader for ${UNISPH_FUZZ_SECONDS:-60} s"
-UNISPH_FUZZ_TARGET=polygon scripts/fuzz_stl.sh "${UNISPH_FUZZ_SECONDS:-60}"
+stage "fuzz the polygon reader for ${UNISPH_FUZZ_SECONDS:-30} s"
+UNISPH_FUZZ_TARGET=polygon scripts/fuzz_stl.sh "${UNISPH_FUZZ_SECONDS:-30}"
 
-stage "fuzz the case-file reader for ${UNISPH_FUZZ_SECONDS:-60} s"
-scripts/fuzz_case.sh "${UNISPH_FUZZ_SECONDS:-60}"
+stage "fuzz the case-file reader for ${UNISPH_FUZZ_SECONDS:-30} s"
+scripts/fuzz_case.sh "${UNISPH_FUZZ_SECONDS:-30}"
 
-stage "fuzz the .vtp particle-file reader for ${UNISPH_FUZZ_SECONDS:-60} s"
-scripts/fuzz_vtp.sh "${UNISPH_FUZZ_SECONDS:-60}"
+stage "fuzz the .vtp particle-file reader for ${UNISPH_FUZZ_SECONDS:-30} s"
+scripts/fuzz_vtp.sh "${UNISPH_FUZZ_SECONDS:-30}"
 
 stage "done"
