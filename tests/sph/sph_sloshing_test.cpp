@@ -122,8 +122,11 @@ void expect_first_mode_period_of_linear_theory(const char* search, bool correcte
   }
 }
 
+// The stored lists on every policy (the CPU's default): with "automatic" the GPU took its direct
+// search, whose uncorrected standing wave runs 4.7 % fast (3.5283 on an H100, session 21); the
+// direct search is checked with the correction below.
 TYPED_TEST(Sloshing, FirstModePeriodMatchesLinearTheory) {
-  expect_first_mode_period_of_linear_theory<TypeParam>("automatic", false);
+  expect_first_mode_period_of_linear_theory<TypeParam>("stored", false);
 }
 
 // The direct search at every policy (the GPU's default) with the kernel gradient corrected: without
