@@ -54,16 +54,30 @@ struct WallFreeBox {
   // the water give a smaller box; a wall particle within the margin of the seed an empty one.
   static WallFreeBox around(const std::vector<Vec<T, D>>& wall, const Vec<T, D>& start_lower, const Vec<T, D>& start_upper,
                             const Vec<T, D>& seed, double cutoff) {
-    std::vector<Extent> extents(wall.size());
-    for (std::size_t k = 0; k < wall.size(); ++k)
-      for (int a = 0; a < D; ++a) extents[k].lower[a] = extents[k].upper[a] = double(wall[k][a]);
-    return around(extents, start_lower, start_upper, seed, cutoff);
+    return around_extents(
+        wall.size(),
+        [&](std::size_t k) {
+          Extent e;
+          for (int a = 0; a < D; ++a) e.lower[a] = e.upper[a] = double(wall[k][a]);
+          return e;
+        },
+        start_lower, start_upper, seed, cutoff);
   }
   // The same for extents: a moving wall particle's swept box is kept clear of as a whole (its
   // distance to the seed and along each axis is the box's nearest point's; a box that spans the
   // seed along every axis is within the margin of it). A point gives the result above.
   static WallFreeBox around(const std::vector<Extent>& wall, const Vec<T, D>& start_lower, const Vec<T, D>& start_upper,
                             const Vec<T, D>& seed, double cutoff) {
+    return around_extents(
+        wall.size(), [&](std::size_t k) { return wall[k]; }, start_lower, start_upper, seed, cutoff);
+  }
+
+ private:
+  // Both: extent_of(k) gives wall particle k's extent (a point's made on the fly, so that a
+  // large case's wall is not copied at start-up).
+  template <class ExtentOf>
+  static WallFreeBox around_extents(std::size_t count, const ExtentOf& extent_of, const Vec<T, D>& start_lower,
+                                    const Vec<T, D>& start_upper, const Vec<T, D>& seed, double cutoff) {
     const double margin = 1.01 * cutoff, reach = (1 - 1e-9) * margin;
     double lo[D], hi[D];
     for (int a = 0; a < D; ++a) lo[a] = double(start_lower[a]) + margin, hi[a] = double(start_upper[a]) - margin;
@@ -71,15 +85,16 @@ struct WallFreeBox {
     const auto beyond = [&](const Extent& w, int a) {
       return std::max(w.lower[a] - double(seed[a]), double(seed[a]) - w.upper[a]);
     };
-    std::vector<std::pair<double, std::size_t>> order(wall.size());
-    for (std::size_t k = 0; k < wall.size(); ++k) {
+    std::vector<std::pair<double, std::size_t>> order(count);
+    for (std::size_t k = 0; k < count; ++k) {
+      const Extent w = extent_of(k);
       double d = 0;
-      for (int a = 0; a < D; ++a) d += std::max(beyond(wall[k], a), 0.0) * std::max(beyond(wall[k], a), 0.0);
+      for (int a = 0; a < D; ++a) d += std::max(beyond(w, a), 0.0) * std::max(beyond(w, a), 0.0);
       order[k] = {d, k};
     }
     std::sort(order.begin(), order.end());
     for (const auto& [distance, k] : order) {
-      const Extent& w = wall[k];
+      const Extent w = extent_of(k);
       // Near: within the margin of the box, less a rounding's worth (a wall particle in line with
       // one that cut a face lies exactly at the margin from it, and must not cut a second face).
       bool near = true;
@@ -99,6 +114,7 @@ struct WallFreeBox {
     return box;
   }
 
+ public:
   static WallFreeBox of_tank(const std::vector<double>& tank, const std::vector<Vec<T, D>>& wall, double cutoff) {
     for (const Vec<T, D>& w : wall) {
       bool outside = false;
