@@ -3,6 +3,8 @@
 // silently ignored setting.
 #include "unisph/solver/case_file.hpp"
 
+#include "unisph/solver/tank_particles.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <cstdint>
@@ -534,7 +536,7 @@ void read_bodies(const Reader& r, const toml::table& root, CaseDescription& c) {
       if (body.moves() && !c.domain.periodic.empty())
         r.fail(t.get(body.translation.moves() ? "translation" : "rotation"), "body." + std::string(body.translation.moves() ? "translation" : "rotation"),
                "moving walls are not available in a periodic domain yet");
-      const long long four = 4;
+      const long long four = wall_layers;
       const long long layers = r.integer(t, "body.", "layers", &four);
       if (layers < 1 || layers > 16) r.fail(t.get("layers"), "body.layers", "must be 1 to 16 (it is " + std::to_string(layers) + ")");
       // The default layers must cover the kernel's support 2 h below a fluid particle half a
@@ -869,11 +871,12 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
       c.obstacles.push_back(obstacle);
     }
   }
-  // The short form's tank and the obstacles have 4 layers of wall particles.
-  if ((!general || !c.obstacles.empty()) && c.smoothing_length_ratio > 1.75)
+  // The short form's tank and the obstacles have wall_layers (4) layers of wall particles.
+  const double covered_ratio = (wall_layers - 0.5) / 2;  // layers >= 2 h / dx + 0.5
+  if ((!general || !c.obstacles.empty()) && c.smoothing_length_ratio > covered_ratio)
     r.fail(geometry.get("smoothing_length_ratio"), "geometry.smoothing_length_ratio",
-           std::string(general ? "the obstacles have" : "the short form's tank has") +
-               " 4 layers of wall particles, which cover h up to 1.75 dx (it is " +
+           std::string(general ? "the obstacles have " : "the short form's tank has ") + std::to_string(wall_layers) +
+               " layers of wall particles, which cover h up to " + Reader::format(covered_ratio) + " dx (it is " +
                Reader::format(c.smoothing_length_ratio) + ")");
   return c;
 }
