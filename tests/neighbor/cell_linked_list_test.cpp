@@ -108,6 +108,30 @@ TYPED_TEST(CellListBuild, FlaggedParticlesGoToTheirOwnBucketAndRebuildsStartClea
   EXPECT_EQ(cells.grid().place({{1.0, 1.0, 1.0}}).cell, (Vec<int, 3>{{4, 4, 4}}));
 }
 
+// A grid over part of the region (report_outside_of the whole of it, as the solver's cells cover
+// only the particles' box in a wider domain): a particle beyond the grid but inside the region is
+// clamped into a border cell and not reported; one beyond the region is; a NaN is non-finite only.
+TYPED_TEST(CellListBuild, ReportsLeavingAgainstItsOwnBoxWhereGiven) {
+  const auto policy = this->policy;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  DiscreteVariable<Vec<double, 2>> x("Position", {{{0.5, 0.5}}, {{1.5, 0.5}}, {{0.5, 3.5}}, {{nan, 0.5}}, {{1.0, 1.0}}});
+  CellLinkedList<double, 2> cells(x, {Vec<double, 2>{}, Vec<double, 2>::constant(1.0)}, 0.25);
+  cells.build(policy);
+  EXPECT_EQ(cells.report().out_of_box, 2u);  // against the grid's box
+  cells.report_outside_of({Vec<double, 2>::constant(-1.0), Vec<double, 2>::constant(3.0)});
+  cells.build(policy);
+  const CellListReport r = cells.report();
+  EXPECT_EQ(r.out_of_box, 1u);  // (0.5, 3.5) only
+  EXPECT_EQ(r.non_finite, 1u);
+  EXPECT_EQ(r.flagged, 0u);
+  // (1.5, 0.5) lies in the border cell of (1, 0.5), where a neighbour search finds it.
+  const auto offsets = cells.offsets().to_vector();
+  const auto particles = cells.particles().to_vector();
+  const Index border = cells.grid().linear_index(cells.grid().place({{1.0, 0.5}}).cell);
+  EXPECT_NE(std::find(particles.begin() + offsets[border], particles.begin() + offsets[border + 1], 1u),
+            particles.begin() + offsets[border + 1]);
+}
+
 // Ordered by id: a set whose owned particles carry shuffled ids from first_id = 1000 on, and
 // ghosts after them that carry owned particles' ids (as a halo's do) elsewhere in the box, plus
 // ghosts whose id nobody wrote (below first_id and past the set's ids), one outside the box and

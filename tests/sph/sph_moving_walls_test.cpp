@@ -148,7 +148,11 @@ TYPED_TEST(MovingWalls, TankAtConstantVelocityCarriesWaterAtRest) {
   // water takes its initial velocity and the tank its motion, at time 0.
   WeaklyCompressibleSolver<double, 2> moving(parse_case(tank_case(dx, motion, {speed, 0.0}, "", 20.0), "moving_tank_2d.toml"),
                                              kind_of<TypeParam>());
-  WeaklyCompressibleSolver<double, 2> still(parse_case(tank_case(dx, "", {0.0, 0.0}, "", 20.0), "moving_tank_2d.toml"),
+  // The tank at rest is the same moving body at speed 0: both runs take the moving walls' path
+  // and their neighbour search's cells (over the whole domain, which the moving tank sweeps), so
+  // that the comparison sees the motion, not the round-off of another summation order.
+  const std::string at_rest = replaced(motion, "velocity = 0.25", "velocity = 0.0");
+  WeaklyCompressibleSolver<double, 2> still(parse_case(tank_case(dx, at_rest, {0.0, 0.0}, "", 20.0), "moving_tank_2d.toml"),
                                             kind_of<TypeParam>());
   double worst_relative = 0, worst_difference = 0, worst_still = 0;
   for (double t : {0.5, 1.0, 1.5, 2.0}) {

@@ -212,9 +212,33 @@ struct WeaklyCompressibleSolver<T, D>::State {
     for (int a : c.domain.periodic) period[a] = domain.upper[a] - domain.lower[a];
     return period;
   }
-  // The cell lists' box: the domain, or images->search_box() (the images lie beyond the faces).
-  static Box<T, D> search_box_of(const std::unique_ptr<PeriodicImages<T, D>>& images, const Box<T, D>& domain) {
-    return images ? images->search_box() : domain;
+  // The cell lists' box: images->search_box() where an axis is periodic (the images lie beyond
+  // the faces); in the general form the domain cut down to one cutoff around the particles the
+  // case starts with. The cells cost 8 bytes each, and a domain drawn around a tank's walls at
+  // its coarsest dx holds a margin of empty cells at a fine one (dambreak_general_3d.toml at dx
+  // 0.00625: twice the cells, 11.5 bytes per particle). A particle that goes beyond (over an open
+  // tank's rim) is clamped into a border cell and still found; leaving is counted against the
+  // domain all the same (CellLinkedList::report_outside_of). Walls that move sweep beyond where
+  // they start, and the short form's domain is its tank and walls: the domain there.
+  static Box<T, D> search_box_of(const CaseDescription& c, const std::unique_ptr<PeriodicImages<T, D>>& images,
+                                 const Box<T, D>& domain, const TankParticles<T, D>& p, T cutoff) {
+    if (images) return images->search_box();
+    if (!c.general() || (p.fluid.empty() && p.wall.empty())) return domain;
+    for (const BodyDescription& b : c.bodies)
+      if (b.kind == "wall" && b.moves()) return domain;
+    // The general form is made whole on every rank (made_in_shares): one box on all of them.
+    Box<T, D> box{p.fluid.empty() ? p.wall.front() : p.fluid.front(), p.fluid.empty() ? p.wall.front() : p.fluid.front()};
+    for (const auto* set : {&p.fluid, &p.wall})
+      for (const Vector& x : *set)
+        for (int a = 0; a < D; ++a) {
+          box.lower[a] = std::min(box.lower[a], x[a]);
+          box.upper[a] = std::max(box.upper[a], x[a]);
+        }
+    for (int a = 0; a < D; ++a) {
+      box.lower[a] = std::max(domain.lower[a], box.lower[a] - cutoff);
+      box.upper[a] = std::min(domain.upper[a], box.upper[a] + cutoff);
+    }
+    return box;
   }
   // On several ranks a tank case (the short form, without obstacle files, and without initial
   // velocities kept through a settling stage) is made in shares: the domain is cut before the
@@ -391,7 +415,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
         wall(wall_body),
         fluid_images(images_of(c, fluid_body, domain, kernel.cutoff())),
         wall_images(images_of(c, wall_body, domain, kernel.cutoff())),
-        search_box(search_box_of(fluid_images, domain)),
+        search_box(search_box_of(c, fluid_images, domain, particles, kernel.cutoff())),
         fluid_cells(fluid.position, search_box, kernel.cutoff(), OutsideParticles::clamp, cell_size_of(c, kind, kernel.cutoff())),
         wall_cells(wall.position, search_box, kernel.cutoff(), OutsideParticles::clamp, cell_size_of(c, kind, kernel.cutoff())),
         inner(fluid_cells, search_method_of(c)),
@@ -428,6 +452,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
     // lists' contiguous path where a set has no ghosts.
     fluid_cells.order_within_cells_by_id(fluid_body.particles());
     wall_cells.order_within_cells_by_id(wall_body.particles());
+    if (!fluid_images) fluid_cells.report_outside_of(domain);  // the cells may cover less (search_box_of)
     if (particles.fluid.empty() && particles.fluid_whole == 0)
       throw Error("case '" + c.name + "': the fluid holds no particle at dx = " + std::to_string(c.dx) +
                   (removed_fluid ? " (the obstacles took all " + std::to_string(removed_fluid) + ")" : std::string()));
@@ -1550,7 +1575,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
   // Several ranks with periodic axes: the fluid's images object, kept to wrap positions into the
   // box (the halo makes the images); fluid_images and wall_images are then null.
   std::unique_ptr<PeriodicImages<T, D>> rank_wrap;
-  Box<T, D> search_box;  // of the cell lists: the domain, or beyond its periodic faces
+  Box<T, D> search_box;  // of the cell lists: beyond the periodic faces, or around the particles (search_box_of)
   CellLinkedList<T, D> fluid_cells;
   CellLinkedList<T, D> wall_cells;
   InnerRelation<T, D> inner;
