@@ -35,6 +35,14 @@ struct InteractionLaunch {
   Real dt;
   UNISPH_HOST_DEVICE void operator()(Index i) const { kernel.interaction(i, dt); }
 };
+// The common case of a kernel compiled apart (see InteractionDynamics::exec).
+template <class Kernel>
+struct CommonCaseLaunch {
+  static constexpr int min_blocks_per_multiprocessor = unisph::min_blocks_per_multiprocessor<Kernel>();
+  Kernel kernel;
+  Real dt;
+  UNISPH_HOST_DEVICE void operator()(Index i) const { kernel.template interact<true>(i, dt); }
+};
 template <class Kernel>
 struct ReduceLaunch {
   static constexpr int min_blocks_per_multiprocessor = unisph::min_blocks_per_multiprocessor<Kernel>();
@@ -62,7 +70,17 @@ class InteractionDynamics : public KernelShell<Method> {
   void exec(P policy, Real dt = Real(0)) {
     using Kernel = typename Method::Kernel;
     const Kernel& k = this->kernel(policy);
-    particle_for(policy, static_cast<const Method&>(*this).size(), detail::InteractionLaunch<Kernel>{k, dt});
+    const Index n = static_cast<const Method&>(*this).size();
+    // A kernel may compile its common case apart: with `bool common_case() const` and
+    // `interact<true>(i, dt)` it leaves out the branches of rarer cases (moving walls, lists
+    // walked by runs on several ranks), whose registers would spill in every case on the device.
+    if constexpr (requires { k.common_case(); }) {
+      if (k.common_case()) {
+        particle_for(policy, n, detail::CommonCaseLaunch<Kernel>{k, dt});
+        return;
+      }
+    }
+    particle_for(policy, n, detail::InteractionLaunch<Kernel>{k, dt});
   }
 };
 

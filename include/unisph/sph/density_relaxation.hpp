@@ -60,14 +60,22 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
     bool moving_walls;
     DensityDiffusion<T, D> diffusion;
 
-    UNISPH_HOST_DEVICE void interaction(Index i, Real) const {
+    // Static walls, no list walked by runs (one rank) and no diffusion term: compiled apart
+    // (InteractionDynamics::exec).
+    bool common_case() const {
+      return !moving_walls && inner.targets.run_end.empty() && contact.targets.run_end.empty() && !diffusion.on();
+    }
+    UNISPH_HOST_DEVICE void interaction(Index i, Real dt) const { interact<false>(i, dt); }
+
+    template <bool Common>
+    UNISPH_HOST_DEVICE void interact(Index i, Real) const {
       const VelocityPressure<T, D> own = velocity_pressure[i];
       const Vec<T, D> v_i = own.velocity;
       const T p_i = own.pressure;
       T rate = T(0), diffused = T(0);
       const PairKernelDerivative<T, D> derivative{kernel};  // dW/dr, cached in stored lists
-      const bool diffuse = diffusion.on();
-      for_each_neighbor_record(inner, position_volume, i, derivative,
+      const bool diffuse = !Common && diffusion.on();
+      for_each_neighbor_record<!Common>(inner, position_volume, i, derivative,
                                [&](Index j, const PositionVolume<T, D>& r_j, const NeighborPair<T, D>& pair, T dW) {
                                  VelocityPressureRead<T, D> s_j = velocity_pressure[j];
                                  const Vec<T, D>& e = pair.direction();
@@ -79,11 +87,11 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
       const T rho_i = density[i];
       if (contact.uses_stored_lists() || !wall_free.contains(position_volume[i].position)) {
         const Vec<T, D> a0 = prior_acceleration[i];
-        contact.for_each_weighted_neighbor(i, derivative, [&](Index w, const NeighborPair<T, D>& pair, T dW) {
+        contact.template for_each_weighted_neighbor<!Common>(i, derivative, [&](Index w, const NeighborPair<T, D>& pair, T dW) {
           const Vec<T, D>& e = pair.direction();
           const Vec<T, D> n = wall_normal[w];
           Vec<T, D> v_rel = v_i, a_rel = a0;  // relative to the wall (moving_walls.hpp)
-          if (moving_walls) {
+          if (!Common && moving_walls) {
             v_rel -= wall_velocity[w];
             a_rel -= wall_acceleration[w];
           }
@@ -92,7 +100,7 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
           rate += divergence * dW * wall_volume;
         });
       }
-      density_change_rate[i] = rate * rho_i + diffusion.coefficient * diffused;
+      density_change_rate[i] = Common ? rate * rho_i : rate * rho_i + diffusion.coefficient * diffused;
     }
   };
   static_assert(std::is_trivially_copyable_v<Kernel>, "Kernels are copied to the device byte for byte.");

@@ -61,12 +61,14 @@ struct NeighborRecordWriter {
 // each neighbour they find. The rows of cells are
 // NeighborSearch::for_each_candidate_range's, walked as NeighborSearch::for_each_direct_candidate
 // walks them.
-template <class T, int D, class W, class F>
+// Runs = false leaves the walk by runs out of the code (for a kernel's common case, where the
+// caller knows search.targets.run_end is empty): the same neighbours in the same order.
+template <bool Runs = true, class T, int D, class W, class F>
 UNISPH_NEIGHBOR_LOOP UNISPH_HOST_DEVICE void for_each_neighbor_record(const NeighborSearch<T, D>& search,
                                                                       View<const PositionVolume<T, D>> records, Index i,
                                                                       const W& weight, F&& f) {
   const bool cell_order = search.targets.in_cell_order();
-  if (search.uses_stored_lists() || (!cell_order && search.targets.run_end.empty())) {
+  if (search.uses_stored_lists() || (!cell_order && (!Runs || search.targets.run_end.empty()))) {
     search.for_each_weighted_neighbor(
         i, weight, [&](Index j, const NeighborPair<T, D>& pair, T w) { f(j, records[j], pair, w); });
     return;
@@ -84,7 +86,7 @@ UNISPH_NEIGHBOR_LOOP UNISPH_HOST_DEVICE void for_each_neighbor_record(const Neig
     }
   };
   search.for_each_candidate_range(xi, [&](std::uint32_t begin, std::uint32_t end) {
-    if (cell_order) {
+    if (!Runs || cell_order) {
       candidates(begin, end);
       return;
     }

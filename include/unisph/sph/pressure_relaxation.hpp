@@ -117,14 +117,21 @@ class PressureRelaxation : public InteractionDynamics<PressureRelaxation<T, D>> 
     WallFreeBox<T, D> wall_free;  // no wall neighbour inside
     bool moving_walls;
 
-    UNISPH_HOST_DEVICE void interaction(Index i, Real) const {
+    // Static walls and no list walked by runs (one rank): compiled apart (InteractionDynamics::exec).
+    bool common_case() const {
+      return !moving_walls && inner.targets.run_end.empty() && contact.targets.run_end.empty();
+    }
+    UNISPH_HOST_DEVICE void interaction(Index i, Real dt) const { interact<false>(i, dt); }
+
+    template <bool Common>
+    UNISPH_HOST_DEVICE void interact(Index i, Real) const {
       const VelocityPressure<T, D> own = velocity_pressure[i];
       const Vec<T, D> v_i = own.velocity;
       const T p_i = own.pressure;
       const T rho_i = density[i];
       Vec<T, D> force{};  // sum of 2 p* dW V_j e_ij
       const PairKernelDerivative<T, D> derivative{kernel};  // dW/dr, cached in stored lists
-      for_each_neighbor_record(inner, position_volume, i, derivative,
+      for_each_neighbor_record<!Common>(inner, position_volume, i, derivative,
                                [&](Index j, const PositionVolume<T, D>& r_j, const NeighborPair<T, D>& pair, T dW) {
                                  VelocityPressureRead<T, D> s_j = velocity_pressure[j];
                                  const Vec<T, D>& e = pair.direction();
@@ -132,17 +139,19 @@ class PressureRelaxation : public InteractionDynamics<PressureRelaxation<T, D>> 
                                  const T weight = dW * r_j.volume;
                                  force += e * (riemann.twice_interface_pressure(p_i, s_j.pressure, jump) * weight);
                                });
-      add_wall_terms(i, p_i, rho_i, v_i, force);
+      add_wall_terms<!Common>(i, p_i, rho_i, v_i, force);
       acceleration[i] = force * (-T(1) / rho_i);
     }
     // Adds the wall dummy particles' terms of fluid particle i to `sum` (none inside the
     // wall-free box of a direct search); CorrectedPressureRelaxation takes them apart to apply B_i.
+    // MayMove = false: the walls are known to be static and the wall list not walked by runs.
+    template <bool MayMove = true>
     UNISPH_HOST_DEVICE void add_wall_terms(Index i, T p_i, T rho_i, const Vec<T, D>& v_i, Vec<T, D>& sum) const {
       if (!contact.uses_stored_lists() && wall_free.contains(position_volume[i].position)) return;
       const PairKernelDerivative<T, D> derivative{kernel};
       const Vec<T, D> a0 = prior_acceleration[i];
-      contact.for_each_weighted_neighbor(i, derivative, [&](Index w, const NeighborPair<T, D>& pair, T dW) {
-        if (moving_walls)
+      contact.template for_each_weighted_neighbor<MayMove>(i, derivative, [&](Index w, const NeighborPair<T, D>& pair, T dW) {
+        if (MayMove && moving_walls)
           sum += wall_pressure_term(riemann, p_i, rho_i, Vec<T, D>(v_i - wall_velocity[w]),
                                     Vec<T, D>(a0 - wall_acceleration[w]), wall_normal[w], pair, dW, wall_volume);
         else
