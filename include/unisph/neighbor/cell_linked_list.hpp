@@ -512,12 +512,7 @@ class CellLinkedList {
     const cell_list_detail::IdKey key{bucket_of_.read(policy), set.ids().read(policy), set.first_id(), id_count, id_bits};
     View<std::uint32_t> particles = particles_.write(policy);
     particle_for(policy, n, cell_list_detail::IdentityWhereKeysAscend{key, particles, counters});
-    if (n < 2) return false;
-    if constexpr (P::space == MemorySpace::host) {
-      if (counters[3] == 0) return false;
-    } else {
-      if (counters_.read(MemorySpace::host)[3] == 0) return false;
-    }
+    if (n < 2 || counters_.read(MemorySpace::host)[3] == 0) return false;
     keys_.resize(n);
     View<std::uint64_t> keys = keys_.write(policy);
     particle_for(policy, n, cell_list_detail::IdKeys{key, keys});

@@ -238,6 +238,12 @@ struct CaseDescription {
   std::vector<ObstacleDescription> obstacles;
 
   bool general() const { return !bodies.empty(); }
+  // A wall body has a prescribed motion ([body.translation] or [body.rotation]).
+  bool walls_move() const {
+    for (const BodyDescription& b : bodies)
+      if (b.kind == "wall" && b.moves()) return true;
+    return false;
+  }
 };
 
 }  // namespace unisph::sph

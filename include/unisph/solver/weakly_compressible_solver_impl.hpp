@@ -223,9 +223,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
   static Box<T, D> search_box_of(const CaseDescription& c, const std::unique_ptr<PeriodicImages<T, D>>& images,
                                  const Box<T, D>& domain, const TankParticles<T, D>& p, T cutoff) {
     if (images) return images->search_box();
-    if (!c.general() || (p.fluid.empty() && p.wall.empty())) return domain;
-    for (const BodyDescription& b : c.bodies)
-      if (b.kind == "wall" && b.moves()) return domain;
+    if (!c.general() || c.walls_move() || (p.fluid.empty() && p.wall.empty())) return domain;
     // The general form is made whole on every rank (made_in_shares): one box on all of them.
     Box<T, D> box{p.fluid.empty() ? p.wall.front() : p.fluid.front(), p.fluid.empty() ? p.wall.front() : p.fluid.front()};
     for (const auto* set : {&p.fluid, &p.wall})
@@ -375,8 +373,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
   static WallFreeBox<T, D> wall_free_of(const CaseDescription& c, const TankParticles<T, D>& p, const Box<T, D>& domain,
                                         double cutoff) {
     if (!c.general()) return WallFreeBox<T, D>::of_tank(c.tank, p.wall, cutoff);
-    for (const BodyDescription& b : c.bodies)
-      if (b.moves()) return WallFreeBox<T, D>::empty();  // made in make_wall_motions, from the swept boxes
+    if (c.walls_move()) return WallFreeBox<T, D>::empty();  // made in make_wall_motions, from the swept boxes
     const Vector seed = seed_of(p);
     if (c.domain.periodic.empty()) return WallFreeBox<T, D>::around(p.wall, domain.lower, domain.upper, seed, cutoff);
     // Periodic axes: the wall particles and their images (+-L where within 1.1 cutoffs of a
@@ -594,9 +591,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
   // moving body, and each wall particle gets its body's. Nothing is registered, and the kernels
   // keep their static-wall path, when no body moves. A bad motion is one CaseFileError line.
   void make_wall_motions(const CaseDescription& c) {
-    bool any = false;
-    for (const BodyDescription& b : c.bodies) any = any || (b.kind == "wall" && b.moves());
-    if (!any) return;
+    if (!c.walls_move()) return;
     if (wall_images) throw CaseFileError(periodic_where(c) + "moving walls are not available in a periodic domain yet");
     MemorySpace space = MemorySpace::host;
     visit_policy(policy, [&](auto p) { space = decltype(p)::space; });

@@ -139,19 +139,19 @@ class PressureRelaxation : public InteractionDynamics<PressureRelaxation<T, D>> 
                                  const T weight = dW * r_j.volume;
                                  force += e * (riemann.twice_interface_pressure(p_i, s_j.pressure, jump) * weight);
                                });
-      add_wall_terms<!Common>(i, p_i, rho_i, v_i, force);
+      add_wall_terms<Common>(i, p_i, rho_i, v_i, force);
       acceleration[i] = force * (-T(1) / rho_i);
     }
     // Adds the wall dummy particles' terms of fluid particle i to `sum` (none inside the
     // wall-free box of a direct search); CorrectedPressureRelaxation takes them apart to apply B_i.
-    // MayMove = false: the walls are known to be static and the wall list not walked by runs.
-    template <bool MayMove = true>
+    // Common: the kernel's common case (common_case()), static walls and no walk by runs.
+    template <bool Common = false>
     UNISPH_HOST_DEVICE void add_wall_terms(Index i, T p_i, T rho_i, const Vec<T, D>& v_i, Vec<T, D>& sum) const {
       if (!contact.uses_stored_lists() && wall_free.contains(position_volume[i].position)) return;
       const PairKernelDerivative<T, D> derivative{kernel};
       const Vec<T, D> a0 = prior_acceleration[i];
-      contact.template for_each_weighted_neighbor<MayMove>(i, derivative, [&](Index w, const NeighborPair<T, D>& pair, T dW) {
-        if (MayMove && moving_walls)
+      contact.template for_each_weighted_neighbor<!Common>(i, derivative, [&](Index w, const NeighborPair<T, D>& pair, T dW) {
+        if (!Common && moving_walls)
           sum += wall_pressure_term(riemann, p_i, rho_i, Vec<T, D>(v_i - wall_velocity[w]),
                                     Vec<T, D>(a0 - wall_acceleration[w]), wall_normal[w], pair, dW, wall_volume);
         else
