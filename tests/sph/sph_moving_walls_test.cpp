@@ -186,28 +186,36 @@ TYPED_TEST(MovingWalls, TankAtConstantVelocityCarriesWaterAtRest) {
 
 // Static walls and the same walls moving at speed 0 give the same bits: the relaxations compile
 // their common case (static walls, one rank) apart from the general kernel (InteractionDynamics::
-// exec), and the two must sum the same terms in the same order (v - 0 and a - 0 are exact).
+// exec), and the two must sum the same terms in the same order (v - 0 and a - 0 are exact). With
+// fluid.kernel_gradient_correction too: the corrected pressure relaxation's kernel derives from
+// the plain one's, and its common case must still apply B (in session 22 it ran the base's
+// uncorrected common case on one rank with static walls; this test would have caught it).
 TYPED_TEST(MovingWalls, StaticWallsAndWallsMovingAtSpeedZeroGiveTheSameBits) {
   const std::string at_rest = "[body.translation]\nlaw = \"constant\"\ndirection = [1.0, 0.0]\nvelocity = 0.0\n";
-  // The domain is the tank's outer box, so that both runs search the same cells (with static
-  // walls the cells would otherwise cover only the particles' box, with moving ones the domain).
-  const auto text = [](const std::string& motion) {
-    return replaced(tank_case(0.05, motion, {0.0, 0.0}), "lower = [-1.0, -0.5]\nupper = [3.0, 1.5]",
-                    "lower = [-0.2, -0.2]\nupper = [1.2, 1.2]");
-  };
-  WeaklyCompressibleSolver<double, 2> fixed(parse_case(text(""), "moving_tank_2d.toml"), kind_of<TypeParam>());
-  WeaklyCompressibleSolver<double, 2> moving(parse_case(text(at_rest), "moving_tank_2d.toml"), kind_of<TypeParam>());
-  while (fixed.time() < 0.5 - 1e-12) fixed.advance(0.5);
-  while (moving.time() < 0.5 - 1e-12) moving.advance(0.5);
-  EXPECT_EQ(fixed.advection_steps(), moving.advection_steps());
-  using V = Vec<double, 2>;
-  const auto v = by_id<V>(fixed.fluid_body(), "Velocity");
-  double largest = 0;
-  for (const V& x : v) largest = std::max(largest, norm(x));
-  EXPECT_GT(largest, 0.0);  // the water moves (it starts on the lattice, unsettled): the terms are exercised
-  for (const char* name : {"Position", "Velocity"})
-    EXPECT_TRUE(by_id<V>(fixed.fluid_body(), name) == by_id<V>(moving.fluid_body(), name)) << name;
-  EXPECT_TRUE((by_id<double, double, 2>(fixed.fluid_body(), "Density") == by_id<double, double, 2>(moving.fluid_body(), "Density")));
+  for (const bool corrected : {false, true}) {
+    SCOPED_TRACE(corrected ? "kernel gradient corrected" : "plain pressure gradient");
+    // The domain is the tank's outer box, so that both runs search the same cells (with static
+    // walls the cells would otherwise cover only the particles' box, with moving ones the domain).
+    const auto text = [&](const std::string& motion) {
+      std::string t = replaced(tank_case(0.05, motion, {0.0, 0.0}), "lower = [-1.0, -0.5]\nupper = [3.0, 1.5]",
+                               "lower = [-0.2, -0.2]\nupper = [1.2, 1.2]");
+      return corrected ? replaced(t, "[fluid]\n", "[fluid]\nkernel_gradient_correction = true\n") : t;
+    };
+    WeaklyCompressibleSolver<double, 2> fixed(parse_case(text(""), "moving_tank_2d.toml"), kind_of<TypeParam>());
+    WeaklyCompressibleSolver<double, 2> moving(parse_case(text(at_rest), "moving_tank_2d.toml"), kind_of<TypeParam>());
+    while (fixed.time() < 0.5 - 1e-12) fixed.advance(0.5);
+    while (moving.time() < 0.5 - 1e-12) moving.advance(0.5);
+    EXPECT_EQ(fixed.advection_steps(), moving.advection_steps());
+    using V = Vec<double, 2>;
+    const auto v = by_id<V>(fixed.fluid_body(), "Velocity");
+    double largest = 0;
+    for (const V& x : v) largest = std::max(largest, norm(x));
+    EXPECT_GT(largest, 0.0);  // the water moves (it starts on the lattice, unsettled): the terms are exercised
+    for (const char* name : {"Position", "Velocity"})
+      EXPECT_TRUE(by_id<V>(fixed.fluid_body(), name) == by_id<V>(moving.fluid_body(), name)) << name;
+    EXPECT_TRUE(
+        (by_id<double, double, 2>(fixed.fluid_body(), "Density") == by_id<double, double, 2>(moving.fluid_body(), "Density")));
+  }
 }
 
 // A run with a moving wall, checkpointed at t = 0.5 and continued to t = 1 from the file, gives

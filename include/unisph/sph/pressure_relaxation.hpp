@@ -151,11 +151,16 @@ class PressureRelaxation : public InteractionDynamics<PressureRelaxation<T, D>> 
       const PairKernelDerivative<T, D> derivative{kernel};
       const Vec<T, D> a0 = prior_acceleration[i];
       contact.template for_each_weighted_neighbor<!Common>(i, derivative, [&](Index w, const NeighborPair<T, D>& pair, T dW) {
-        if (!Common && moving_walls)
-          sum += wall_pressure_term(riemann, p_i, rho_i, Vec<T, D>(v_i - wall_velocity[w]),
-                                    Vec<T, D>(a0 - wall_acceleration[w]), wall_normal[w], pair, dW, wall_volume);
-        else
-          sum += wall_pressure_term(riemann, p_i, rho_i, v_i, a0, wall_normal[w], pair, dW, wall_volume);
+        // One call on both paths, so that the general kernel does the common case's arithmetic
+        // (v - 0 and a - 0 are exact). With a call in each branch, one rank (the common kernel)
+        // and two (the general one) differed in the last bits on an H100 (stored lists, double),
+        // as nvcc may fuse a product and a sum differently in the two.
+        Vec<T, D> v_rel = v_i, a_rel = a0;  // relative to the wall (moving_walls.hpp)
+        if (!Common && moving_walls) {
+          v_rel -= wall_velocity[w];
+          a_rel -= wall_acceleration[w];
+        }
+        sum += wall_pressure_term(riemann, p_i, rho_i, v_rel, a_rel, wall_normal[w], pair, dW, wall_volume);
       });
     }
   };
@@ -294,7 +299,12 @@ class CorrectedPressureRelaxation : public InteractionDynamics<CorrectedPressure
     static constexpr int min_blocks_per_multiprocessor = 0;
     View<const Mat<T, D>> matrices;
 
-    UNISPH_HOST_DEVICE void interaction(Index i, Real) const {
+    // The base's common_case() holds here too; this interact (not the base's, which leaves B out)
+    // is the one InteractionDynamics::exec compiles for it.
+    UNISPH_HOST_DEVICE void interaction(Index i, Real dt) const { interact<false>(i, dt); }
+
+    template <bool Common>
+    UNISPH_HOST_DEVICE void interact(Index i, Real) const {
       const VelocityPressure<T, D> own = this->velocity_pressure[i];
       const Vec<T, D> v_i = own.velocity;
       const T p_i = own.pressure;
@@ -302,7 +312,7 @@ class CorrectedPressureRelaxation : public InteractionDynamics<CorrectedPressure
       const Mat<T, D> b_i = matrices[i];
       Vec<T, D> force{};
       const PairKernelDerivative<T, D> derivative{this->kernel};
-      for_each_neighbor_record(this->inner, this->position_volume, i, derivative,
+      for_each_neighbor_record<!Common>(this->inner, this->position_volume, i, derivative,
                                [&](Index j, const PositionVolume<T, D>& r_j, const NeighborPair<T, D>& pair, T dW) {
                                  VelocityPressureRead<T, D> s_j = this->velocity_pressure[j];
                                  const Vec<T, D>& e = pair.direction();
@@ -314,7 +324,7 @@ class CorrectedPressureRelaxation : public InteractionDynamics<CorrectedPressure
                                  force += term * (dW * r_j.volume);
                                });
       Vec<T, D> walls{};
-      this->add_wall_terms(i, p_i, rho_i, v_i, walls);
+      this->template add_wall_terms<Common>(i, p_i, rho_i, v_i, walls);
       force += b_i * walls;
       this->acceleration[i] = force * (-T(1) / rho_i);
     }
