@@ -181,13 +181,9 @@ Index migrate(P policy, Transport& transport, const Plan& plan, VariableRegistry
         // Compact the particles that stay to [0, kept), then make room for the arrivals.
         if (kept != owned_count) {
           const View<const std::uint32_t> order(stay_index);
-          for (VariableBase* v : travelling) {
-            const std::size_t bytes = kept * v->element_size();
-            void* tmp = PlanScratch::room(policy, work.bytes, (bytes + 3) / 4).data();
-            void* data = v->prepare(P::space, Access::read_write);
-            gather_by_permutation(policy, order, data, tmp, v->element_size());
-            copy_bytes(policy, tmp, data, bytes);
-          }
+          for (VariableBase* v : travelling)
+            permute_in_place(policy, order, v->prepare(P::space, Access::read_write), v->element_size(), work.bytes,
+                             "migration's compaction");
         }
         variables.resize(new_count);
       },

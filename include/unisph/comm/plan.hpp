@@ -68,7 +68,7 @@ struct PlanScratch {
   DiscreteVariable<std::uint32_t> counts{"Plan.Counts"};
   DiscreteVariable<std::uint32_t> offsets{"Plan.Offsets"};
   DiscreteVariable<std::uint64_t> starts{"Plan.BinStarts"};
-  DiscreteVariable<std::uint32_t> bytes{"Plan.Bytes"};  // 4-byte words of a variable being compacted
+  DiscreteVariable<std::uint32_t> bytes{"Plan.Bytes"};  // a variable being compacted, on the host (permute_in_place)
   DiscreteVariable<std::uint32_t> one{"Plan.One", 1};
   // Grows `v` to at least n elements (never shrinks) and returns the first n.
   template <class P, class T>

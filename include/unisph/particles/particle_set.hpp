@@ -170,12 +170,8 @@ class ParticleSet {
     variables_.for_each([&](VariableRegistry::Entry& e) {
       if (!e.flags.sortable || owned_ == 0) return;
       VariableBase& v = *e.variable;
-      const std::size_t bytes = owned_ * v.element_size();
-      scratch_.resize(std::max<Index>(scratch_.size(), (bytes + 3) / 4));
-      void* tmp = scratch_.write(policy).data();
-      void* data = v.prepare(P::space, Access::read_write);
-      gather_by_permutation(policy, permutation, data, tmp, v.element_size());
-      copy_bytes(policy, tmp, data, bytes);
+      permute_in_place(policy, permutation, v.prepare(P::space, Access::read_write), v.element_size(), scratch_,
+                       "particle reorder");
     });
     map_ids(policy, false);
   }

@@ -5,8 +5,11 @@
 // compiled kernel serves every variable type of a registry.
 
 #include <cstdint>
+#include <string_view>
 
 #include "unisph/exec/algorithms.hpp"
+#include "unisph/exec/backend/cuda/runtime.hpp"
+#include "unisph/memory/discrete_variable.hpp"
 
 namespace unisph {
 
@@ -63,6 +66,29 @@ void copy_bytes(P policy, const void* src, void* dst, std::size_t bytes) {
     using W = unsigned char;
     particle_for(policy, bytes, permute_detail::CopyWords<W>{static_cast<const W*>(src), static_cast<W*>(dst)});
   }
+}
+
+// Reorders the first permutation.size() elements of `data` (the policy's memory space) in
+// place: element k becomes the old element permutation[k], through a temporary. On the device
+// the temporary is the algorithms' scratch (cuda::scratch: stream order keeps the algorithm
+// that made the permutation, a sort or a scan, from still using it), so that no particle set
+// or plan holds a buffer of its own (12 bytes per particle in 3D float, as much as the
+// positions); on the host it is `host_scratch`, grown as needed and kept.
+template <ExecutionPolicy P>
+void permute_in_place(P policy, View<const std::uint32_t> permutation, void* data, std::size_t element_size,
+                      DiscreteVariable<std::uint32_t>& host_scratch, std::string_view what) {
+  const std::size_t bytes = permutation.size() * element_size;
+  if (bytes == 0) return;
+  void* tmp = nullptr;
+  if constexpr (P::space == MemorySpace::device) {
+    tmp = cuda::scratch(bytes, what);
+  } else {
+    const Index words = Index((bytes + 3) / 4);
+    if (host_scratch.size() < words) host_scratch.resize(words);
+    tmp = host_scratch.write(policy).data();
+  }
+  gather_by_permutation(policy, permutation, data, tmp, element_size);
+  copy_bytes(policy, tmp, data, bytes);
 }
 
 }  // namespace unisph
