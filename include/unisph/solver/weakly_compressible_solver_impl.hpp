@@ -441,14 +441,14 @@ struct WeaklyCompressibleSolver<T, D>::State {
         velocity_damping(fluid),
         density_update_and_start(density_update, pressure_start),
         refresh_records(fluid),
-        front(fluid, 0, T(c.dx)),
-        energy(fluid, gravity_of(c)),
-        total_mass(fluid) {
+        observers(fluid, gravity_of(c), 0, T(c.dx), !(comm && comm->size() > 1), period_of(c, domain),
+                  comm && comm->size() > 1) {
     // Neighbours in one order on any number of ranks: cells in the stencil's order, particles
     // within a cell by global id (owned or ghost alike); the sorters' (cell, id) order keeps the
     // lists' contiguous path where a set has no ghosts.
     fluid_cells.order_within_cells_by_id(fluid_body.particles());
     wall_cells.order_within_cells_by_id(wall_body.particles());
+    density_summation.set_wall_free(wall_free);  // declared before the box: set here
     if (!fluid_images) fluid_cells.report_outside_of(domain);  // the cells may cover less (search_box_of)
     if (particles.fluid.empty() && particles.fluid_whole == 0)
       throw Error("case '" + c.name + "': the fluid holds no particle at dx = " + std::to_string(c.dx) +
@@ -456,9 +456,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
     for (const ProbeDescription& p : c.probes) {
       Vector x{};
       for (int a = 0; a < D; ++a) x[a] = T(p.position[a]);
-      probes.push_back(std::make_unique<PressureProbe<T, D>>(
-          fluid, WendlandC2Kernel<T, D>::from_spacing(T(c.dx * p.kernel_width)), x, !(comm && comm->size() > 1),
-          period_of(c, domain)));
+      observers.add_probe(x, WendlandC2Kernel<T, D>::from_spacing(T(c.dx * p.kernel_width)));
     }
     check_walls_along_periodic_axes(c, particles, domain, wall_groups, double(kernel.cutoff()));
     make_wall_motions(c);
@@ -669,6 +667,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
       for (int a = 0; a < D; ++a) extents[q].lower[a] = double(swept.lower[a]), extents[q].upper[a] = double(swept.upper[a]);
     }
     wall_free = WallFreeBox<T, D>::around(extents, domain.lower, domain.upper, seed_of(particles), double(kernel.cutoff()));
+    density_summation.set_wall_free(wall_free);
     pressure_relaxation.set_wall_free(wall_free);
     density_relaxation.set_wall_free(wall_free);
   }
@@ -920,8 +919,10 @@ struct WeaklyCompressibleSolver<T, D>::State {
     // With stored lists, dW/dr of each pair is cached with its geometry (the relaxations read it).
     inner.update(p, PairKernelDerivative<T, D>{kernel});
     contact.update(p, PairKernelDerivative<T, D>{kernel});
-    // After a sort or a restore the relaxations' neighbour records follow the new order.
+    // After a sort or a restore the neighbour records follow the new order: the density
+    // summation, first to read them, reads those of the images and ghosts too.
     refresh_records.exec(p);
+    if (fluid_images) refresh_image_records(p);
     if (share) refresh_ghost_records(p);
     const CellListReport report = fluid_cells.report();
     // On several ranks the counts of all ranks' owned particles.
@@ -1281,9 +1282,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
       in.fail("holds " + std::to_string(owned) + " particles of '" + name + "'; this case has " + std::to_string(made));
     if (in.u64() != set.first_id()) in.fail("holds other particle ids for '" + name + "'");
     const std::uint64_t count = in.u64();
-    if (count != set.variables().sortable_names().size())
-      in.fail("holds " + std::to_string(count) + " variables of '" + name + "'; this solver has " +
-              std::to_string(set.variables().sortable_names().size()));
+    const std::size_t sortable = set.variables().sortable_names().size();
     StagedBody staged;
     staged.owned = Index(owned);
     for (std::uint64_t k = 0; k < count; ++k) {
@@ -1291,9 +1290,18 @@ struct WeaklyCompressibleSolver<T, D>::State {
       const std::string type = in.string();
       const std::uint64_t element = in.u64();
       VariableRegistry::Entry* entry = nullptr;
+      bool derived = false;  // a variable this solver recomputes before reading it
       set.variables().for_each([&](VariableRegistry::Entry& e) {
-        if (e.flags.sortable && e.variable->name() == variable) entry = &e;
+        if (e.variable->name() != variable) return;
+        if (e.flags.sortable) entry = &e;
+        else derived = true;
       });
+      if (derived) {
+        // A checkpoint of an earlier build, which kept the accelerations (fluid_variables.hpp).
+        std::string skipped(owned * element, '\0');
+        in.block(skipped.data(), skipped.size(), "'" + name + "." + variable + "'");
+        continue;
+      }
       if (!entry) in.fail("holds variable '" + variable + "' of '" + name + "', which this solver does not have");
       if (type != entry->type_name || element != entry->variable->element_size())
         in.fail("holds '" + name + "." + variable + "' as " + type + "; this solver has " + entry->type_name);
@@ -1301,6 +1309,9 @@ struct WeaklyCompressibleSolver<T, D>::State {
       in.block(bytes.data(), bytes.size(), "'" + name + "." + variable + "'");
       staged.variables.emplace_back(entry->variable.get(), std::move(bytes));
     }
+    if (staged.variables.size() != sortable)
+      in.fail("holds " + std::to_string(staged.variables.size()) + " of the " + std::to_string(sortable) +
+              " variables of '" + name + "' this solver keeps");
     return staged;
   }
   // The set takes the checkpoint's particles, as many as it holds: fewer than a fresh set's
@@ -1448,11 +1459,14 @@ struct WeaklyCompressibleSolver<T, D>::State {
     ObserverSample s;
     s.time = time;
     visit_policy(policy, [&](auto p) {
-      s.front = double(front.exec(p));
-      const Vec<T, 2> e = energy.exec(p);
-      s.kinetic_energy = double(e[0]);
-      s.potential_energy = double(e[1]);
-      s.mass = double(total_mass.exec(p));
+      // A probe near a periodic face reads the images across it.
+      if (!share && fluid_images && observers.probe_count() > 0)
+        fluid_images->refresh(p, fluid.pressure, fluid.density, fluid.mass);
+      const typename FluidObservers<T, D>::Sample o = observers.exec(p);
+      s.front = double(o.front);
+      s.kinetic_energy = double(o.energy[0]);
+      s.potential_energy = double(o.energy[1]);
+      s.mass = double(o.mass);
       if (share) {
         // Each rank's owned particles; the sums folded in rank order (comm::Communicator).
         s.front = share->comm().allreduce_max(s.front);
@@ -1461,15 +1475,13 @@ struct WeaklyCompressibleSolver<T, D>::State {
         s.mass = global_sum(s.mass);
         // A pressure probe's kernel may reach beyond the halo (probe.kernel_width): each rank
         // sums over its owned particles, and the sums are added.
-        for (auto& probe : probes) {
-          const Vec<T, 2> sums = probe->sums(p);
+        for (const Vec<T, 2>& sums : o.probe_sums) {
           const double weighted = global_sum(double(sums[0])), weight = global_sum(double(sums[1]));
           s.probe_pressure.push_back(weight > 0 ? weighted / weight : 0.0);
         }
       } else {
-        // A probe near a periodic face reads the images across it.
-        if (fluid_images && !probes.empty()) fluid_images->refresh(p, fluid.pressure, fluid.density, fluid.mass);
-        for (auto& probe : probes) s.probe_pressure.push_back(double(probe->exec(p)));
+        for (const Vec<T, 2>& sums : o.probe_sums)
+          s.probe_pressure.push_back(sums[1] > T(0) ? double(sums[0] / sums[1]) : 0.0);
       }
       // Gauges and velocity probes (the fluid's kernel, within the halo's reach): on several
       // ranks each point is read by the rank that owns it, from its owned particles and ghosts
@@ -1600,10 +1612,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
   VelocityDamping<T, D> velocity_damping;
   DensityUpdateAndPressureStart<T, D> density_update_and_start;
   RefreshNeighborRecords<T, D> refresh_records;
-  FrontPosition<T, D> front;
-  MechanicalEnergy<T, D> energy;
-  TotalMass<T, D> total_mass;
-  std::vector<std::unique_ptr<PressureProbe<T, D>>> probes;
+  FluidObservers<T, D> observers;  // front, energies, mass, pressure probes: one pass
   double time = 0;
   std::uint64_t advection_steps = 0;
   std::uint64_t acoustic_steps = 0;

@@ -86,17 +86,19 @@ UNISPH_NEIGHBOR_LOOP UNISPH_HOST_DEVICE void for_each_neighbor_record(const Neig
     }
   };
   search.for_each_candidate_range(xi, [&](std::uint32_t begin, std::uint32_t end) {
-    if (!Runs || cell_order) {
+    if constexpr (!Runs) {
       candidates(begin, end);
-      return;
-    }
-    // A list ordered by id with ghosts (several ranks): its runs of consecutive indices, in the
-    // list's order, the same arithmetic as in cell order (CellListView::run_end).
-    for (std::uint32_t k = begin; k < end;) {
-      const std::uint32_t stop = search.targets.run_end[k] < end ? search.targets.run_end[k] : end;
-      const std::uint32_t first = search.targets.particles[k];
-      candidates(first, first + (stop - k));
-      k = stop;
+    } else if (cell_order) {
+      candidates(begin, end);
+    } else {
+      // A list ordered by id with ghosts (several ranks): its runs of consecutive indices, in
+      // the list's order, the same arithmetic as in cell order (CellListView::run_end).
+      for (std::uint32_t k = begin; k < end;) {
+        const std::uint32_t stop = search.targets.run_end[k] < end ? search.targets.run_end[k] : end;
+        const std::uint32_t first = search.targets.particles[k];
+        candidates(first, first + (stop - k));
+        k = stop;
+      }
     }
   });
 }
