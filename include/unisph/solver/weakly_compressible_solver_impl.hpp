@@ -1427,13 +1427,12 @@ struct WeaklyCompressibleSolver<T, D>::State {
   // fluid.particle_shifting: every fluid particle moved back towards an even arrangement
   // (particle_shifting.hpp), at the start of the advection step, before the density is summed.
   // The kernel sums and the shifts read the neighbours' records, current at the step's start (the
-  // last rebuild refreshed the owned particles' and the ghosts'; the images' are refreshed here);
-  // the shifts read the neighbours' kernel sums, images' and ghosts' too. After the move the
-  // owned particles', the images' and the ghosts' records and positions follow it.
+  // last rebuild refreshed the owned particles', the images' and the ghosts'); the shifts read the
+  // neighbours' kernel sums, images' and ghosts' too. After the move the owned particles', the
+  // images' and the ghosts' records and positions follow it.
   template <class P>
   void shift_particles(P p) {
     if (!particle_shifting) return;
-    if (fluid_images) refresh_image_records(p);
     shifting_kernel_sums->exec(p);
     if (fluid_images) fluid_images->refresh(p, *shifting_kernel_sum);
     if (share) share->refresh(p, fluid_body, *fluid_halo, shifting_kernel_sum_name);

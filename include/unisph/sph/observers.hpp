@@ -73,7 +73,7 @@ class FluidObservers : public KernelShell<FluidObservers<T, D>> {
   static_assert(std::is_trivially_copyable_v<Kernel>, "Kernels are copied to the device byte for byte.");
 
   // One pass: particles [0, owned) give the front, energies and mass (owned = 0: probes only);
-  // particles [0, n) the probes, n > owned where they read the periodic images (PressureProbe).
+  // particles [0, n) the probes, n > owned where they read the periodic images.
   struct Launch {
     Kernel k;
     Index owned;
@@ -108,7 +108,7 @@ class FluidObservers : public KernelShell<FluidObservers<T, D>> {
   };
 
   // What one sample gives: the front (plus dx/2), the energies, the mass, and each probe's two
-  // sums (finish: sum p W V / sum W V, zero where no particle is near).
+  // sums (its pressure is sum p W V / sum W V, zero where no particle is near).
   struct Sample {
     T front;
     Vec<T, 2> energy;
