@@ -404,11 +404,11 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
     const auto gib = [](double b) { return b / double(1ull << 30); };
     log << "\ndevice memory unisph allocated" << (ranks ? " (rank 0)" : "") << ": at most " << gib(double(memory_use.peak_bytes))
         << " GiB at once, " << gib(double(memory_use.bytes)) << " GiB at the end, of which";
-    const std::size_t shown = std::min<std::size_t>(memory_use.groups.size(), 12);
+    // Every use, largest first: the ledger is what a memory budget is checked against.
+    const std::size_t shown = memory_use.groups.size();
     for (std::size_t k = 0; k < shown; ++k)
       log << (k ? "," : "") << " " << memory_use.groups[k].what << " " << gib(double(memory_use.groups[k].bytes)) << " GiB"
           << (memory_use.groups[k].blocks > 1 ? " (" + std::to_string(memory_use.groups[k].blocks) + " blocks)" : std::string());
-    if (memory_use.groups.size() > shown) log << " and " << memory_use.groups.size() - shown << " smaller uses";
   }
   if (ranks) {
     log << "\nranks: " << world.size() << " (domain cut "
