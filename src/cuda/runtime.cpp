@@ -14,6 +14,7 @@
 #include "unisph/exec/policy.hpp"
 
 #if UNISPH_HAS_CUDA
+#include <cuda.h>
 #include <cuda_runtime.h>
 #endif
 
@@ -213,24 +214,139 @@ void fill_zero(void* dst, std::size_t bytes, std::string_view what) {
 
 void synchronize(std::string_view what) { check(cudaStreamSynchronize(stream()), std::string(what)); }
 
-void* scratch(std::size_t bytes, std::string_view what) {
-  struct Scratch {
-    void* ptr = nullptr;
-    std::size_t bytes = 0;
-  };
-  static Scratch s;
-  static std::mutex mutex;
-  std::lock_guard lock(mutex);
-  if (bytes > s.bytes) {
-    // cudaFree waits for the device, so no queued work still uses the old buffer.
-    deallocate(s.ptr);
-    s.ptr = nullptr;
-    s.bytes = 0;
-    const std::size_t grown = bytes + bytes / 4;  // headroom against many small regrowths
-    s.ptr = allocate(grown, "scratch storage of " + std::string(what));
-    s.bytes = grown;
+namespace {
+// The workspace (runtime.hpp) on CUDA's virtual memory management: cuMemAddressReserve once,
+// then cuMemCreate / cuMemMap / cuMemSetAccess for each growth. The driver's entry points come
+// through the runtime (cudaGetDriverEntryPointByVersion), so nothing links libcuda directly.
+struct DriverCalls {
+  decltype(&cuMemGetAllocationGranularity) granularity = nullptr;
+  decltype(&cuMemAddressReserve) reserve = nullptr;
+  decltype(&cuMemCreate) create = nullptr;
+  decltype(&cuMemMap) map = nullptr;
+  decltype(&cuMemSetAccess) set_access = nullptr;
+  decltype(&cuMemRelease) release = nullptr;
+  decltype(&cuDeviceGetAttribute) attribute = nullptr;
+};
+
+template <class F>
+void driver_entry(const char* name, F& fn) {
+  void* p = nullptr;
+  cudaDriverEntryPointQueryResult found{};
+  check(cudaGetDriverEntryPointByVersion(name, &p, 12000, cudaEnableDefault, &found),
+        std::string("looking up the CUDA driver's ") + name);
+  if (found != cudaDriverEntryPointSuccess || !p)
+    throw DeviceError(std::string("the CUDA driver has no ") + name + " (the device workspace needs CUDA 12 or later)");
+  fn = reinterpret_cast<F>(p);
+}
+
+void check_driver(CUresult r, const std::string& what) {
+  if (r == CUDA_SUCCESS) return;
+  throw DeviceError(what + ": CUDA driver error " + std::to_string(int(r)) +
+                    (r == CUDA_ERROR_OUT_OF_MEMORY ? " (out of memory)" : ""));
+}
+
+struct Workspace {
+  std::mutex mutex;
+  DriverCalls cu;
+  CUdeviceptr base = 0;
+  std::size_t reserved = 0;   // address range
+  std::size_t mapped = 0;     // backed by memory, from base
+  std::size_t top = 0;        // taken, from base
+  std::size_t granularity = 0;
+  CUmemAllocationProp prop{};
+
+  void start() {
+    require_device();
+    driver_entry("cuMemGetAllocationGranularity", cu.granularity);
+    driver_entry("cuMemAddressReserve", cu.reserve);
+    driver_entry("cuMemCreate", cu.create);
+    driver_entry("cuMemMap", cu.map);
+    driver_entry("cuMemSetAccess", cu.set_access);
+    driver_entry("cuMemRelease", cu.release);
+    driver_entry("cuDeviceGetAttribute", cu.attribute);
+    int device = 0;
+    check(cudaGetDevice(&device), "cudaGetDevice");
+    int supported = 0;
+    check_driver(cu.attribute(&supported, CU_DEVICE_ATTRIBUTE_VIRTUAL_MEMORY_MANAGEMENT_SUPPORTED, device),
+                 "asking for virtual memory management");
+    if (!supported) throw DeviceError("the GPU does not support virtual memory management, which the device workspace uses");
+    prop.type = CU_MEM_ALLOCATION_TYPE_PINNED;
+    prop.location.type = CU_MEM_LOCATION_TYPE_DEVICE;
+    prop.location.id = device;
+    check_driver(cu.granularity(&granularity, &prop, CU_MEM_ALLOC_GRANULARITY_RECOMMENDED),
+                 "asking the device workspace's granularity");
+    std::size_t free = 0, total = 0;
+    check(cudaMemGetInfo(&free, &total), "cudaMemGetInfo");
+    // The whole device's size: the stack can never need more addresses than there is memory.
+    reserved = (total + granularity - 1) / granularity * granularity;
+    check_driver(cu.reserve(&base, reserved, 0, 0, 0), "reserving " + bytes_text(reserved) + " of addresses for the device workspace");
   }
-  return s.ptr;
+
+  // Backs [0, need) with memory (never shrinks).
+  void cover(std::size_t need, std::string_view what) {
+    if (need <= mapped) return;
+    if (!base) start();
+    // Headroom of 1/32, as a variable's growth, and whole granules.
+    std::size_t grow = need - mapped + need / 32;
+    grow = (grow + granularity - 1) / granularity * granularity;
+    if (mapped + grow > reserved) grow = reserved - mapped;
+    if (mapped + grow < need)
+      throw DeviceError("the device workspace would need " + bytes_text(need) + " for " + std::string(what) +
+                        ", more than the device's " + bytes_text(reserved));
+    const std::string label = "mapping " + bytes_text(grow) + " more device workspace for " + std::string(what) +
+                              " (" + bytes_text(mapped) + " mapped)";
+    CUmemGenericAllocationHandle handle{};
+    check_driver(cu.create(&handle, grow, &prop, 0), label);
+    const CUresult mapped_ok = cu.map(base + mapped, grow, 0, handle, 0);
+    // The mapping holds the memory from here on; the handle is not needed (nothing is unmapped).
+    cu.release(handle);
+    check_driver(mapped_ok, label);
+    CUmemAccessDesc access{};
+    access.location = prop.location;
+    access.flags = CU_MEM_ACCESS_FLAGS_PROT_READWRITE;
+    check_driver(cu.set_access(base + mapped, grow, &access, 1), label);
+    Ledger& l = ledger();
+    std::lock_guard lock(l.mutex);
+    l.live.emplace(reinterpret_cast<void*>(base + mapped), std::make_pair(grow, std::string("device workspace")));
+    l.bytes += grow;
+    l.peak = std::max(l.peak, l.bytes);
+    mapped += grow;
+  }
+};
+Workspace& workspace() {
+  static Workspace w;
+  return w;
+}
+constexpr std::size_t workspace_alignment = 256;
+}  // namespace
+
+void* workspace_take(std::size_t bytes, std::string_view what) {
+  Workspace& w = workspace();
+  std::lock_guard lock(w.mutex);
+  const std::size_t size = (bytes + workspace_alignment - 1) / workspace_alignment * workspace_alignment;
+  w.cover(w.top + size, what);
+  void* p = reinterpret_cast<void*>(w.base + w.top);
+  w.top += size;
+  return p;
+}
+
+std::size_t workspace_mark() {
+  Workspace& w = workspace();
+  std::lock_guard lock(w.mutex);
+  return w.top;
+}
+
+void workspace_release(std::size_t mark) {
+  Workspace& w = workspace();
+  std::lock_guard lock(w.mutex);
+  if (mark <= w.top) w.top = mark;
+}
+
+void* scratch(std::size_t bytes, std::string_view what) {
+  Workspace& w = workspace();
+  std::lock_guard lock(w.mutex);
+  w.cover(w.top + std::max<std::size_t>(bytes, 1), what);
+  return reinterpret_cast<void*>(w.base + w.top);
 }
 
 void* pinned_result_buffer() {
@@ -272,6 +388,9 @@ void copy_on_device(void*, const void*, std::size_t, std::string_view) { unavail
 void fill_zero(void*, std::size_t, std::string_view) { unavailable(); }
 void synchronize(std::string_view) {}
 void* scratch(std::size_t, std::string_view) { unavailable(); }
+void* workspace_take(std::size_t, std::string_view) { unavailable(); }
+std::size_t workspace_mark() { return 0; }
+void workspace_release(std::size_t) {}
 
 #endif
 

@@ -256,18 +256,19 @@ class Halo {
     const Index n = positions.size();
     source_count_ = n;
     const DecompositionView<D> view = d.view(policy);
-    // Count, place, write.
+    // Count, place, write; every array but the plan's and the shifts lives only within the build.
+    WorkspaceScope scope(policy);
     halo_detail::HaloTargets<D, PS, S> targets{view, positions, cutoff * cutoff, comm.rank(),
-                                                PlanScratch::room(policy, work().counts, n), {}, {}, {}, {}, {}};
+                                                scope.take(policy, work().counts, n), {}, {}, {}, {}, {}};
     particle_for(policy, n, targets);
-    const View<std::uint32_t> offsets = PlanScratch::room(policy, work().offsets, n + 1);
+    const View<std::uint32_t> offsets = scope.take(policy, work().offsets, n + 1);
     exclusive_scan(policy, View<const std::uint32_t>(targets.counts), offsets);
     const Index items = work().element(policy, View<const std::uint32_t>(offsets), n);
     targets.offsets = offsets;
-    targets.key = PlanScratch::room(policy, work().keys, items);
-    targets.item = PlanScratch::room(policy, work().values, items);
-    targets.source = PlanScratch::room(policy, source_, items);
-    targets.shift = PlanScratch::room(policy, slot_shift_, items);
+    targets.key = scope.take(policy, work().keys, items);
+    targets.item = scope.take(policy, work().values, items);
+    targets.source = scope.take(policy, source_, items);
+    targets.shift = scope.take(policy, slot_shift_, items);
     particle_for(policy, n, targets);
     // By rank, stably.
     const int p = comm.size();

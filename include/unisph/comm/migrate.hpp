@@ -120,8 +120,9 @@ Plan migration_plan(P policy, const Communicator& comm, const Decomposition<D>& 
                 std::to_string(comm.size()));
   const Index n = positions.size();
   const int p = comm.size();
-  View<std::uint32_t> keys = PlanScratch::room(policy, scratch.keys, n);
-  View<std::uint32_t> values = PlanScratch::room(policy, scratch.values, n);
+  WorkspaceScope scope(policy);  // the keys and values live only while the plan is built
+  const View<std::uint32_t> keys = scope.take(policy, scratch.keys, n);
+  const View<std::uint32_t> values = scope.take(policy, scratch.values, n);
   particle_for(policy, n,
                migrate_detail::DestinationKeys<D, S>{decomposition.view(policy), positions, comm.rank(), keys, values});
   int bits = 1;
@@ -157,8 +158,9 @@ Index migrate(P policy, Transport& transport, const Plan& plan, VariableRegistry
     throw Error("migrate: " + variables.owner() + " holds " + std::to_string(variables.size()) + " particles but " +
                 std::to_string(owned_count) + " are owned; drop the ghosts before migrating");
   // The particles that stay, in order: marked, scanned and compacted by kernels.
-  const View<std::uint32_t> stays = PlanScratch::room(policy, work.counts, owned_count);
-  const View<std::uint32_t> place = PlanScratch::room(policy, work.offsets, owned_count + 1);
+  WorkspaceScope scope(policy);
+  const View<std::uint32_t> stays = scope.take(policy, work.counts, owned_count);
+  const View<std::uint32_t> place = scope.take(policy, work.offsets, owned_count + 1);
   particle_for(policy, owned_count, migrate_detail::ClearLeaving{stays});
   particle_for(policy, plan.export_count(),
                migrate_detail::MarkLeaving{plan.export_index_variable().read(policy), stays});
@@ -167,7 +169,7 @@ Index migrate(P policy, Transport& transport, const Plan& plan, VariableRegistry
   if (kept + plan.export_count() != owned_count)
     throw Error("migrate: the plan exports " + std::to_string(plan.export_count()) + " items but " +
                 std::to_string(owned_count - kept) + " particles leave: it exports a particle more than once");
-  const View<std::uint32_t> stay_index = PlanScratch::room(policy, work.keys, kept);
+  const View<std::uint32_t> stay_index = scope.take(policy, work.keys, kept);
   particle_for(policy, owned_count, migrate_detail::ListStaying{stays, place, stay_index});
   const Index new_count = kept + plan.import_count();
 

@@ -21,6 +21,7 @@
 
 #include "unisph/comm/communicator.hpp"
 #include "unisph/exec/algorithms.hpp"
+#include "unisph/exec/workspace.hpp"
 #include "unisph/memory/discrete_variable.hpp"
 
 namespace unisph::comm {
@@ -60,8 +61,10 @@ struct BinStarts {
 };
 }  // namespace plan_detail
 
-// Reusable storage of the kernels that build plans (keys, values, counts), so that a plan built
-// every step allocates nothing once the sizes settle.
+// Reusable storage of the kernels that build plans, so that a plan built every step allocates
+// nothing once the sizes settle. keys, values, counts and offsets live only while a plan is built
+// or a migration runs: they are taken in a WorkspaceScope (exec/workspace.hpp), and these
+// variables are their storage on the host; on the device the workspace holds them.
 struct PlanScratch {
   DiscreteVariable<std::uint32_t> keys{"Plan.Keys"};
   DiscreteVariable<std::uint32_t> values{"Plan.Values"};

@@ -54,6 +54,7 @@
 #include "unisph/dynamics/kernel_context.hpp"
 #include "unisph/exec/algorithms.hpp"
 #include "unisph/exec/atomic.hpp"
+#include "unisph/exec/workspace.hpp"
 #include "unisph/memory/discrete_variable.hpp"
 #include "unisph/neighbor/search_grid.hpp"
 #include "unisph/particles/particle_set.hpp"
@@ -377,6 +378,8 @@ class CellLinkedList {
     particles_.resize(n);
     bucket_of_.resize(n);
     slot_of_.resize(by_id ? 0 : n);
+    // Ordered by id: the sort keys and the runs' helper arrays live only within the build.
+    WorkspaceScope scope(policy);
     const Index buckets = grid_.cell_count() + 1;
     View<std::uint32_t> offsets = offsets_.write(policy);
     View<unsigned long long> counters = counters_.write(policy);
@@ -388,7 +391,7 @@ class CellLinkedList {
                                                         by_id ? View<std::uint32_t>{} : slot_of_.write(policy),
                                                         offsets, counters, reported_, report_box_, report_box_set_});
     if (by_id) {
-      if (sort_by_id(policy, n, counters)) find_runs(policy, n);
+      if (sort_by_id(policy, scope, n, counters)) find_runs(policy, scope, n);
       else run_end_.resize(0);
     } else if (n > 1) {
       particle_for(policy, n - 1, cell_list_detail::CheckCellOrder{bucket_of_.read(policy), counters});
@@ -475,17 +478,14 @@ class CellLinkedList {
   // Ordered by id: run_end for every place (see CellListView::run_end), where the sort was not
   // the identity (sort_by_id). Three passes and a scan of the places.
   template <ExecutionPolicy P>
-  void find_runs(P policy, Index n) {
+  void find_runs(P policy, WorkspaceScope& scope, Index n) {
     run_end_.resize(n);
-    run_starts_.resize(n);
-    run_before_.resize(n + 1);
     View<const std::uint32_t> particles = particles_.read(policy);
-    View<std::uint32_t> starts = run_starts_.write(policy);
+    const View<std::uint32_t> starts = scope.take(policy, run_starts_, n);
     particle_for(policy, n, cell_list_detail::RunStarts{particles, starts});
-    View<std::uint32_t> before = run_before_.write(policy);
+    const View<std::uint32_t> before = scope.take(policy, run_before_, n + 1);
     exclusive_scan(policy, View<const std::uint32_t>(starts), before);
-    run_first_.resize(n + 1);  // at most n runs, and the end
-    View<std::uint32_t> first = run_first_.write(policy);
+    const View<std::uint32_t> first = scope.take(policy, run_first_, n + 1);  // at most n runs, and the end
     particle_for(policy, n, cell_list_detail::RunBegins{starts, before, first});
     particle_for(policy, n, cell_list_detail::RunEnds{starts, before, first, run_end_.write(policy)});
   }
@@ -498,7 +498,7 @@ class CellLinkedList {
   // with no ghost among them, a run on one GPU, thus skip the radix sort of 64-bit keys and the
   // runs' four index arrays (24 bytes per particle, and a few per cent of an H100's step).
   template <ExecutionPolicy P>
-  bool sort_by_id(P policy, Index n, View<unsigned long long> counters) {
+  bool sort_by_id(P policy, WorkspaceScope& scope, Index n, View<unsigned long long> counters) {
     ParticleSet& set = *id_set_;
     const std::uint64_t id_count = set.id_count();
     int id_bits = 0;
@@ -513,8 +513,7 @@ class CellLinkedList {
     View<std::uint32_t> particles = particles_.write(policy);
     particle_for(policy, n, cell_list_detail::IdentityWhereKeysAscend{key, particles, counters});
     if (n < 2 || counters_.read(MemorySpace::host)[3] == 0) return false;
-    keys_.resize(n);
-    View<std::uint64_t> keys = keys_.write(policy);
+    const View<std::uint64_t> keys = scope.take(policy, keys_, n);
     particle_for(policy, n, cell_list_detail::IdKeys{key, keys});
     sort_pairs(policy, keys, particles, 0, bucket_bits + id_bits);
     return true;
@@ -529,10 +528,10 @@ class CellLinkedList {
   DiscreteVariable<std::uint32_t> slot_of_;
   DiscreteVariable<unsigned long long> counters_;
   DiscreteVariable<CellPoint<T, D>> points_;
-  DiscreteVariable<std::uint64_t> keys_;  // ordered by id: the sort keys
+  DiscreteVariable<std::uint64_t> keys_;  // ordered by id: the sort keys (the host's storage; WorkspaceScope)
   DiscreteVariable<unsigned long long> changed_{"CellList.BucketChanged"};  // keep_if_cells_unchanged
   DiscreteVariable<std::uint32_t> run_end_{"CellList.RunEnd"};  // ordered by id (find_runs)
-  DiscreteVariable<std::uint32_t> run_starts_{"CellList.RunStarts"};
+  DiscreteVariable<std::uint32_t> run_starts_{"CellList.RunStarts"};  // these three: the host's storage (WorkspaceScope)
   DiscreteVariable<std::uint32_t> run_before_{"CellList.RunsBefore"};
   DiscreteVariable<std::uint32_t> run_first_{"CellList.RunFirst"};
   ParticleSet* id_set_ = nullptr;         // ordered by the ids of this set; null: by the atomics

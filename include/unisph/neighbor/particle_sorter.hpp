@@ -23,6 +23,7 @@
 #include <cstdint>
 
 #include "unisph/exec/algorithms.hpp"
+#include "unisph/exec/workspace.hpp"
 #include "unisph/neighbor/cell_linked_list.hpp"
 #include "unisph/core/morton_key.hpp"
 #include "unisph/neighbor/search_grid.hpp"
@@ -98,22 +99,24 @@ class ParticleSorter {
     }
   }
 
+  // The keys and the permutation live only within the sort (a WorkspaceScope: on the device
+  // they share memory with the other phases of a step's end; 12 bytes per particle).
   template <ExecutionPolicy P>
   void sort(P policy) {
     const Index n = particles_.owned_count();
-    keys_.resize(n);
-    permutation_.resize(n);
+    WorkspaceScope scope(policy);
+    const View<std::uint64_t> keys = scope.take(policy, keys_, n);
+    const View<std::uint32_t> permutation = scope.take(policy, permutation_, n);
     const bool by_id = order_ == SortOrder::cell_index_then_id;
     particle_for(policy, n,
                  sorter_detail::ComputeKeys<T, D>{grid_, order_ == SortOrder::morton, flag_outside_,
                                                   std::uint64_t(1) << (key_bits_ - 1),
-                                                  positions_.read(policy), keys_.write(policy),
-                                                  permutation_.write(policy),
+                                                  positions_.read(policy), keys, permutation,
                                                   by_id ? View<const std::uint64_t>(particles_.ids().read(policy))
                                                         : View<const std::uint64_t>{},
                                                   particles_.first_id(), id_count_, id_bits_});
-    sort_pairs(policy, keys_.read_write(policy), permutation_.read_write(policy), 0, key_bits_ + id_bits_);
-    particles_.reorder(policy, permutation_.read(policy));
+    sort_pairs(policy, keys, permutation, 0, key_bits_ + id_bits_);
+    particles_.reorder(policy, View<const std::uint32_t>(permutation));
     ++sorts_;
   }
 
@@ -130,9 +133,6 @@ class ParticleSorter {
   int key_bits() const { return key_bits_ + id_bits_; }
   int id_bits() const { return id_bits_; }
   Index sorts() const { return sorts_; }
-  DiscreteVariable<std::uint64_t>& keys() { return keys_; }
-  // After sort(): the old index of the particle now at index k.
-  DiscreteVariable<std::uint32_t>& permutation() { return permutation_; }
 
  private:
   ParticleSet& particles_;
@@ -144,7 +144,7 @@ class ParticleSorter {
   int key_bits_ = 1;
   int id_bits_ = 0;
   std::uint64_t id_count_ = 0;
-  DiscreteVariable<std::uint64_t> keys_;
+  DiscreteVariable<std::uint64_t> keys_;  // the host's storage of the sort's keys (WorkspaceScope)
   DiscreteVariable<std::uint32_t> permutation_;
   Index sorts_ = 0;
 };

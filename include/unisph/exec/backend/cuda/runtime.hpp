@@ -56,9 +56,25 @@ void fill_zero(void* dst, std::size_t bytes, std::string_view what);
 // Waits for every launch and copy issued so far.
 void synchronize(std::string_view what);
 
-// Grow-only device storage for temporary buffers of the algorithms (CUB temporaries, reduction
-// partials, sort double buffers). Valid until the next call to scratch(); stream order keeps
-// one algorithm's use from overlapping the next one's.
+// The device workspace: one address range, reserved once, behind which physical memory is mapped
+// as it is needed and kept; used as a stack. Buffers that live only within one phase of a step
+// (a sort's keys and permutation, a cell list's run arrays, a plan's lists) are taken from its top
+// and released together at the phase's end (exec/workspace.hpp: WorkspaceScope), and the
+// algorithms' temporaries lie above them. So the device holds the most that one phase needs at
+// once, not the sum of every phase's buffers. Growing maps more memory behind the same addresses:
+// a block taken stays where it is while the stack grows above it. Stream order keeps a released
+// block's last use ahead of its next one (one stream runs every launch and copy).
+//
+// workspace_take: `bytes` (rounded up to 256) at the top, until released; workspace_mark: the
+// top now; workspace_release(mark): the top back to `mark` (the blocks taken since). Throws
+// DeviceError where the device has no memory left to map, naming `what`.
+void* workspace_take(std::size_t bytes, std::string_view what);
+std::size_t workspace_mark();
+void workspace_release(std::size_t mark);
+
+// Temporary storage of the algorithms (CUB temporaries, reduction partials, sort double
+// buffers): the workspace above its top. Valid until the next call to scratch() or
+// workspace_take(); stream order keeps one algorithm's use from overlapping the next one's.
 void* scratch(std::size_t bytes, std::string_view what);
 
 // 256 bytes of pinned host memory that device kernels can write directly (mapped): a
