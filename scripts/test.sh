@@ -30,11 +30,11 @@ stage "tests (default preset)"
 ctest --preset default -j "$jobs" -LE validation
 
 # The SPH validation runs against experiments and peers (issue 23's bands, docs/validation.md)
-# decide the outcome. Only the SPH runs: the particle-relaxation validation (test_relaxation_validation,
+# and the Taylor-Green decay (issue 21, about 20 s on `par`) decide the outcome. Only the SPH runs: the particle-relaxation validation (test_relaxation_validation,
 # also labelled validation) takes hours on two cores and is run by hand and on the GPU
 # (docs/particle_generation.md); the finer dam breaks run on a GPU (scripts/sph_validation_gpu.sh).
 stage "SPH validation against experiments and peers (gating)"
-ctest --preset default -L validation -LE open -R '^test_sph_validation' --output-on-failure
+ctest --preset default -L validation -LE open -R '^(test_sph_validation|test_sph_periodic\.TaylorGreenDecayRate\.par$)' --output-on-failure
 # The bands the method does not meet yet (label `open`): run and printed, not gating.
 stage "SPH validation: the bands not met yet (reported, not gating)"
 ctest --preset default -L open -R '^test_sph_validation' --output-on-failure || echo "validation: the open bands are outside their bounds, as docs/validation.md reports"
@@ -48,7 +48,7 @@ stage "tests (asan preset)"
 # kernels through the plain loop (the default preset runs both), and would add about 280 s on
 # two cores (docs/architecture.md, "Continuous integration").
 ctest --preset asan -j "$jobs" -LE validation \
-  -E '^(test_level_set|test_sph_curved|test_sph_sloshing|test_sph_wave_flume|test_sph_loads|test_relaxation)\.seq$'
+  -E '^(test_level_set|test_sph_curved|test_sph_sloshing|test_sph_wave_flume|test_sph_loads|test_sph_periodic|test_relaxation)\.seq$'
 
 stage "install + downstream find_package(unisph) project"
 rm -rf build/default/install build/consumer

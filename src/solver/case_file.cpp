@@ -520,9 +520,12 @@ void read_bodies(const Reader& r, const toml::table& root, CaseDescription& c) {
         r.fail(t.get("relaxation_iterations"), "body.relaxation_iterations",
                "must be 1 to 100000 (it is " + std::to_string(iterations) + ")");
       body.relaxation_iterations = int(iterations);
-      if (!c.domain.periodic.empty())
+      // A relaxed fluid continues across periodic faces (shape/relaxed_particles.hpp); a wall's
+      // band is relaxed against its own surface only.
+      if (!c.domain.periodic.empty() && body.kind == "wall")
         r.fail(t.get("fill"), "body.fill",
-               "relaxed bodies are not available in a periodic domain (the relaxation does not see across periodic faces)");
+               "relaxed wall bodies are not available in a periodic domain (a wall's band is relaxed without seeing "
+               "across periodic faces; relaxed fluid bodies are)");
     } else if (t.get("relaxation_iterations")) {
       r.fail(t.get("relaxation_iterations"), "body.relaxation_iterations", "is read only with body.fill = \"relaxed\"");
     }

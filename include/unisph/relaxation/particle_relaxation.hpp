@@ -59,7 +59,9 @@
 // (unisph_uncontracted_kernel_sources), a run has the same bits on seq, par and the GPU.
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <string>
@@ -69,6 +71,7 @@
 #include "unisph/neighbor/cell_linked_list.hpp"
 #include "unisph/neighbor/inner_relation.hpp"
 #include "unisph/neighbor/particle_sorter.hpp"
+#include "unisph/neighbor/periodic_images.hpp"
 #include "unisph/particles/body.hpp"
 #include "unisph/relaxation/lattice_seeding.hpp"
 #include "unisph/relaxation/relaxation_step.hpp"
@@ -109,6 +112,28 @@ struct RelaxationRecord {
 inline constexpr VariableTag<Real> volume_tag{"Volume"};
 
 namespace relaxation_detail {
+// A periodic relaxation's start: every seeded lattice point moved by up to `amplitude` along each
+// axis, by a hash of its id (splitmix64: the same offsets on every policy). In a domain without a
+// surface nothing else breaks the lattice's symmetry, and the lattice is a saddle of the energy
+// that round-off alone leaves only after a few hundred to a thousand iterations (measured: the
+// Taylor-Green box was still on it after 500 of 1,500).
+template <int D>
+struct PerturbSeeds {
+  View<Vec<Real, D>> position;
+  View<const std::uint64_t> id;
+  Real amplitude;
+  UNISPH_HOST_DEVICE void operator()(Index i) const {
+    for (int a = 0; a < D; ++a) {
+      std::uint64_t z = id[i] * std::uint64_t(D) + std::uint64_t(a) + 0x9E3779B97F4A7C15ull;
+      z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+      z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+      z ^= z >> 31;
+      const Real unit = Real(double(z >> 11) * (1.0 / 9007199254740992.0));  // [0, 1)
+      position[i][a] += amplitude * (Real(2) * unit - Real(1));
+    }
+  }
+};
+
 struct FillVolume {
   View<Real> volume;
   Real value;
@@ -175,6 +200,36 @@ class ParticleRelaxation {
     surface_distance_ = std::make_unique<SurfaceDistance<D>>(body_->positions(), *distance_);
   }
 
+  // Periodic along the axes a with periodic[a] of `domain`, for particles that fill it (a fluid
+  // filling a periodic box): from here on the particles wrap through those faces, see their
+  // neighbours across them through images (neighbor/periodic_images.hpp: ghosts after the owned
+  // particles, made anew at every measure()) and relax against no surface (the level set is not
+  // probed: relax_in_shape checks that no surface lies within reach). The seeded lattice points
+  // are first moved by up to 0.05 dx (PerturbSeeds), so that the relaxation leaves the lattice.
+  template <ExecutionPolicy P>
+  void make_periodic(P policy, const Box<Real, D>& domain, const std::array<bool, D>& periodic) {
+    ParticleSet& set = body_->particles();
+    particle_for(policy, set.owned_count(),
+                 relaxation_detail::PerturbSeeds<D>{body_->positions().read_write(policy), set.ids().read(policy),
+                                                    Real(0.05) * dx_});
+    images_ = std::make_unique<PeriodicImages<Real, D>>(set, body_->positions(), domain, periodic, kernel_.cutoff());
+    cells_ = std::make_unique<CellLinkedList<Real, D>>(body_->positions(), images_->search_box(), kernel_.cutoff());
+    // The images follow the owned particles, out of cell order: each cell lists its particles by
+    // id (an image carries its source's), so that every policy sums the neighbours in one order.
+    cells_->order_within_cells_by_id(set);
+    inner_ = std::make_unique<InnerRelation<Real, D>>(*cells_, SearchMethod::direct);
+    sorter_ = std::make_unique<ParticleSorter<Real, D>>(set, body_->positions(), cells_->grid(), 1,
+                                                        SortOrder::cell_index);
+    residual_method_ = std::make_unique<ZeroOrderResidual<D>>(*inner_, *volume_, *residual_, *kernel_sum_, kernel_);
+    residual_method_->count_owned_of(set);
+    step_->count_owned_of(set);
+    norms_->count_owned_of(set);
+    power_->count_owned_of(set);
+    surface_distance_->count_owned_of(set);
+    surface_space_ = -1;  // the new residual method takes the surface at the next use
+  }
+  bool periodic() const { return images_ != nullptr; }
+
   Body<Real, D>& body() { return *body_; }
   Index size() const { return body_->particles().owned_count(); }
   Real spacing() const { return dx_; }
@@ -192,7 +247,13 @@ class ParticleRelaxation {
   template <ExecutionPolicy P>
   RelaxationRecord measure(P policy, int iteration = 0) {
     use_surface(policy);
+    if (images_) images_->wrap(policy);
     sorter_->sort(policy);
+    if (images_) {
+      images_->build(policy);
+      images_->refresh(policy, *volume_);
+      inner_->set_source_count(size());
+    }
     cells_->build(policy);
     inner_->update(policy);
     residual_method_->exec(policy);
@@ -302,7 +363,7 @@ class ParticleRelaxation {
   void use_surface(P policy) {
     if (surface_space_ == int(P::space)) return;
     RelaxationSurface<D> surface{level_set_.view(policy), region_ == SeedRegion::inside, box_,
-                                 HalfSpaceKernelIntegral<D>{kernel_}, gap_};
+                                 HalfSpaceKernelIntegral<D>{kernel_}, gap_, images_ != nullptr};
     residual_method_->set_surface(surface);
     step_->set_surface(surface);
     surface_distance_->set_surface(surface);
@@ -320,6 +381,7 @@ class ParticleRelaxation {
   DiscreteVariable<Position>* velocity_ = nullptr;
   DiscreteVariable<Real>* kernel_sum_ = nullptr;
   DiscreteVariable<Real>* distance_ = nullptr;
+  std::unique_ptr<PeriodicImages<Real, D>> images_;  // make_periodic
   std::unique_ptr<CellLinkedList<Real, D>> cells_;
   std::unique_ptr<InnerRelation<Real, D>> inner_;
   std::unique_ptr<ParticleSorter<Real, D>> sorter_;

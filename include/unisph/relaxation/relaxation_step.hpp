@@ -14,6 +14,7 @@
 #include <cmath>
 
 #include "unisph/dynamics/local_dynamics.hpp"
+#include "unisph/particles/particle_set.hpp"
 #include "unisph/relaxation/relaxation_surface.hpp"
 
 namespace unisph {
@@ -96,9 +97,12 @@ class RelaxationStep : public UpdateDynamics<RelaxationStep<D>> {
     return {context.read_write(position_), context.read_write(velocity_), context.read(residual_), surface_, momentum_,
             fire_, mixing_, steer_, restart_, particle_restart_};
   }
-  Index size() const { return position_.size(); }
+  // Periodic relaxation: the set holds images after its owned particles; only those move.
+  void count_owned_of(const ParticleSet& set) { owned_ = &set; }
+  Index size() const { return owned_ ? owned_->owned_count() : position_.size(); }
 
  private:
+  const ParticleSet* owned_ = nullptr;
   DiscreteVariable<Position>& position_;
   DiscreteVariable<Position>& velocity_;
   DiscreteVariable<Position>& residual_;
@@ -124,9 +128,12 @@ class PowerAndNorms : public ReduceDynamics<PowerAndNorms<D>, Sum<Vec<Real, 3>>,
     }
   };
   Kernel make_kernel(KernelContext& context) { return {context.read(residual_), context.read(velocity_)}; }
-  Index size() const { return residual_.size(); }
+  // Periodic relaxation: the images after the owned particles are not counted.
+  void count_owned_of(const ParticleSet& set) { owned_ = &set; }
+  Index size() const { return owned_ ? owned_->owned_count() : residual_.size(); }
 
  private:
+  const ParticleSet* owned_ = nullptr;
   DiscreteVariable<Vec<Real, D>>& residual_;
   DiscreteVariable<Vec<Real, D>>& velocity_;
 };
@@ -151,9 +158,12 @@ class ResidualNorms : public ReduceDynamics<ResidualNorms<D>, MaxAndSum, ReduceO
     }
   };
   Kernel make_kernel(KernelContext& context) { return {context.read(residual_)}; }
-  Index size() const { return residual_.size(); }
+  // Periodic relaxation: the images after the owned particles are not counted.
+  void count_owned_of(const ParticleSet& set) { owned_ = &set; }
+  Index size() const { return owned_ ? owned_->owned_count() : residual_.size(); }
 
  private:
+  const ParticleSet* owned_ = nullptr;
   DiscreteVariable<Vec<Real, D>>& residual_;
 };
 

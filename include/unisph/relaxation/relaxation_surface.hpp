@@ -43,12 +43,16 @@ struct RelaxationSurface {
   Box<Real, D> box;                // around a body: the box the particles fill
   HalfSpaceKernelIntegral<D> wall; // kernel integrals behind a face of the box
   Real gap;                        // particles are kept at least this far from the surface
+  // No surface within reach of any particle (a fluid filling a periodic domain): nothing is
+  // missing, and no particle is put back.
+  bool none = false;
 
   struct Missing {
     Real weight;
     Vec<Real, D> gradient;  // the exact gradient of weight as a function of x
   };
   UNISPH_HOST_DEVICE Missing missing(const Vec<Real, D>& x) const {
+    if (none) return {Real(0), Vec<Real, D>{}};
     const auto k = level_set.probe_kernel_integrals(x);
     if (particles_inside) return {k.weight, k.gradient};
     Missing m{Real(1) - k.weight, k.gradient * Real(-1)};
@@ -65,11 +69,13 @@ struct RelaxationSurface {
 
   // Signed distance from the surface, negative on the particles' side.
   UNISPH_HOST_DEVICE Real distance(const Vec<Real, D>& x) const {
+    if (none) return Real(-1e30);
     const Real phi = level_set.probe_phi(x);
     return particles_inside ? phi : -phi;
   }
 
   UNISPH_HOST_DEVICE Vec<Real, D> bound(Vec<Real, D> x) const {
+    if (none) return x;
     const Real phi = level_set.probe_phi(x);
     const Real target = particles_inside ? -gap : gap;
     if (particles_inside ? phi > target : phi < target) x -= level_set.probe_normal(x) * (phi - target);

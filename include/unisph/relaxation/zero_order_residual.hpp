@@ -67,9 +67,11 @@ class ZeroOrderResidual : public InteractionDynamics<ZeroOrderResidual<D>> {
     return {inner_.search(context), context.read(volume_), context.write(residual_), context.write(kernel_sum_),
             surface_, kernel_};
   }
-  Index size() const { return volume_.size(); }
+  void count_owned_of(const ParticleSet& set) { owned_ = &set; }  // periodic relaxation: not the images
+  Index size() const { return owned_ ? owned_->owned_count() : volume_.size(); }
 
  private:
+  const ParticleSet* owned_ = nullptr;
   InnerRelation<Real, D>& inner_;
   DiscreteVariable<Real>& volume_;
   DiscreteVariable<Position>& residual_;

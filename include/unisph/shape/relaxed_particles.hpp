@@ -15,7 +15,9 @@
 // intersected with the shell of twice that thickness centred on its surface), so its inner face
 // lies where the dummy particles must end and its outer face is the surface the fluid sees.
 // Host code at set-up.
+#include <array>
 #include <cmath>
+#include <type_traits>
 #include <string>
 #include <vector>
 
@@ -47,6 +49,29 @@ struct ShapeDistanceField {
   UNISPH_HOST_DEVICE int sign(const Vec<Real, D>&, const Nearest& n) const { return n.signed_distance > Real(0) ? 1 : -1; }
 };
 
+// A fluid relaxed in a periodic domain must fill it across its periodic faces with no surface
+// within reach of a particle (relax_in_shape checks it): its shape's own faces on the periodic
+// faces are no surface. This is the distance that check takes: the point folded into the domain
+// along the periodic axes and kept `margin` inside their faces, so that those faces of the shape
+// are never nearer than `margin` and any other surface is seen.
+template <int D>
+struct PeriodicShapeDistance {
+  ShapeView<D> shape;
+  Vec<Real, D> lower, upper;  // the domain
+  Vec<Real, D> period;        // 0 along the other axes
+  Real margin;
+  Real operator()(const Vec<Real, D>& p) const {
+    Vec<Real, D> q = p;
+    for (int a = 0; a < D; ++a) {
+      if (period[a] == Real(0)) continue;
+      q[a] -= period[a] * std::floor((q[a] - lower[a]) / period[a]);
+      const Real lo = lower[a] + margin, hi = upper[a] - margin;
+      q[a] = lo > hi ? lower[a] + Real(0.5) * period[a] : (q[a] < lo ? lo : (q[a] > hi ? hi : q[a]));
+    }
+    return shape.signed_distance(q);
+  }
+};
+
 // The side of a lattice point for the seeding: inside the shape (signed distance below zero).
 template <int D>
 struct InsideShape {
@@ -63,9 +88,14 @@ struct RelaxedFill {
 // The particles of `region` within `within`, seeded on the lattice x = (i + 1/2) dx (the lattice
 // of fill_with_particles with origin 0) and relaxed for `iterations` (RelaxationSettings'
 // schedule: FIRE, its quench, a final descent). Returns the positions in the relaxation's order.
+// Along the axes a with periodic[a], `within` is a periodic domain: the region continues across
+// its faces (PeriodicShapeDistanceField), the particles wrap through them and see their
+// neighbours beyond them (ParticleRelaxation::make_periodic); `within` must then be a whole
+// number of dx long there, for the lattice to close on itself.
 template <ExecutionPolicy P, int D>
 std::vector<Vec<Real, D>> relax_in_shape(P policy, const Shape<D>& region, Real dx, const Box<Real, D>& within,
-                                         int iterations, RelaxedFill* report = nullptr) {
+                                         int iterations, RelaxedFill* report = nullptr,
+                                         const std::type_identity_t<std::array<bool, D>>& periodic = {}) {
   if (!(dx > Real(0)) || !std::isfinite(dx)) throw ShapeError("shape: the lattice spacing must be positive, got " + detail::text(dx));
   if (iterations < 0) throw ShapeError("shape: the relaxation needs a number of iterations >= 0, got " + std::to_string(iterations));
   CompiledShape<D> compiled(region);
@@ -85,9 +115,37 @@ std::vector<Vec<Real, D>> relax_in_shape(P policy, const Shape<D>& region, Real 
   Vec<Real, D> lo = box.lower, hi = box.upper;
   for (int k = 0; k < D; ++k) lo[k] -= pad, hi[k] += pad;
   const ShapeView<D> view = compiled.view(policy);
+  bool any_periodic = false;
+  Vec<Real, D> period{};
+  for (int a = 0; a < D; ++a)
+    if (periodic[a]) {
+      any_periodic = true;
+      period[a] = within.upper[a] - within.lower[a];
+      const double cells = double(period[a]) / double(dx);
+      if (std::abs(cells - std::round(cells)) > 1e-6 * cells)
+        throw ShapeError("shape: the periodic domain is " + detail::text(period[a]) + " long along axis " +
+                         std::to_string(a) + ", not a whole number of the spacing " + detail::text(dx) +
+                         ": the relaxed particles would not close on themselves across its faces");
+    }
   MultiResolutionLevelSet<D> level_set(policy, ShapeDistanceField<D>{view}, lo, hi, dx);
   try {
     ParticleRelaxation<D> relaxation(policy, level_set, box, SeedRegion::inside, dx, InsideShape<D>{view});
+    if (any_periodic) {
+      // Periodic relaxation is built for a fluid that fills the domain: no surface within reach
+      // (a kernel support and a spacing) of any seeded particle, the periodic faces aside.
+      const PeriodicShapeDistance<D> distance{compiled.view(seq), within.lower, within.upper, period, Real(2) * pad};
+      const std::vector<Vec<Real, D>> seeds = relaxation.positions().to_vector();
+      for (const Vec<Real, D>& x : seeds)
+        if (distance(x) > -pad) {
+          std::string at;
+          for (int a = 0; a < D; ++a) at += (a ? ", " : "") + detail::text(x[a]);
+          throw ShapeError("shape: a relaxed fluid in a periodic domain must fill it with no surface within " +
+                           detail::text(pad) + " of a particle, the periodic faces aside (a surface lies " +
+                           detail::text(std::abs(distance(x))) + " from the lattice point (" + at +
+                           ")); fill = \"lattice\" there");
+        }
+      relaxation.make_periodic(policy, within, periodic);
+    }
     RelaxationSettings settings;
     settings.iterations = iterations;
     const std::vector<RelaxationRecord> history = relaxation.run(policy, settings);
@@ -97,7 +155,9 @@ std::vector<Vec<Real, D>> relax_in_shape(P policy, const Shape<D>& region, Real 
       report->mean_error = history.back().mean_error;
       report->max_error = history.back().max_error;
     }
-    return relaxation.positions().to_vector();
+    std::vector<Vec<Real, D>> points = relaxation.positions().to_vector();
+    points.resize(relaxation.size());  // the owned particles (a periodic relaxation's images follow them)
+    return points;
   } catch (const ShapeError&) {
     throw;
   } catch (const Error& e) {

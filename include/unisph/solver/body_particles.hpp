@@ -13,6 +13,7 @@
 // Shapes are built once per name and shared by every body and boolean that names them; the
 // level set of a geometry file is built once per file (shape::MeshLevelSetCache). Every
 // problem is a CaseFileError of one line naming the case file, the line and the key.
+#include <array>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -202,7 +203,10 @@ void append_relaxed_fluid(P policy, const CaseDescription& c, const BodyDescript
   std::vector<Vec<Real, D>> points;
   shape::RelaxedFill fill;
   try {
-    points = shape::relax_in_shape(policy, region, Real(c.dx), domain, b.relaxation_iterations, &fill);
+    // Along periodic axes the fluid continues across the domain's faces (a periodic box or channel).
+    std::array<bool, D> periodic{};
+    for (int a = 0; a < D; ++a) periodic[a] = c.domain.is_periodic(a);
+    points = shape::relax_in_shape(policy, region, Real(c.dx), domain, b.relaxation_iterations, &fill, periodic);
   } catch (const shape::ShapeError& e) {
     throw CaseFileError(where + e.what());
   }
