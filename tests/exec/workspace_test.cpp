@@ -67,7 +67,9 @@ TYPED_TEST(Workspace, OuterArraysSurviveInnerGrowthAndAlgorithms) {
   // The next scope takes the released block again (on the device; the host keeps each array's own variable).
   WorkspaceScope next(policy);
   const View<std::uint32_t> d = next.take(policy, d_host, 10);
-  if constexpr (TypeParam::space == MemorySpace::device) EXPECT_EQ(d.data(), inner_block);
+  if constexpr (TypeParam::space == MemorySpace::device) {
+    EXPECT_EQ(d.data(), inner_block);
+  }
   particle_for(policy, 10, Fill{d, 2, 0});
   EXPECT_EQ(to_host(policy, View<const std::uint32_t>(d))[9], 18u);
 }
