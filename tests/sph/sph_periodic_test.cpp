@@ -329,10 +329,10 @@ TEST(HostPeriodic, BrokenCasesAreRefusedWithOneLine) {
   };
   const std::vector<Broken> parse_errors = {
       {replaced(tg, "periodic = [\"x\", \"y\"]", "periodic = [\"x\", \"w\"]"),
-       "taylor_green_2d.toml:27: key 'domain.periodic': \"w\" is not an axis of this 2D case (\"x\" or \"y\")"},
+       "taylor_green_2d.toml:26: key 'domain.periodic': \"w\" is not an axis of this 2D case (\"x\" or \"y\")"},
       {replaced(tg, "periodic = [\"x\", \"y\"]", "periodic = [\"z\"]"), "key 'domain.periodic': \"z\" is not an axis of this 2D case"},
       {replaced(tg, "periodic = [\"x\", \"y\"]", "periodic = [\"y\", \"y\"]"),
-       "taylor_green_2d.toml:27: key 'domain.periodic': axis \"y\" is named twice"},
+       "taylor_green_2d.toml:26: key 'domain.periodic': axis \"y\" is named twice"},
       {replaced(tg, "periodic = [\"x\", \"y\"]", "periodic = \"x\""), "key 'domain.periodic': must be an array of axis names"},
       {replaced(tg, "periodic = [\"x\", \"y\"]", "periodic = [0]"), "key 'domain.periodic': entries must be axis names"},
       {replaced(tg, "periodic = [\"x\", \"y\"]\n", ""), "key 'physics.gravity': must not be the zero vector"},
@@ -355,7 +355,7 @@ TEST(HostPeriodic, BrokenCasesAreRefusedWithOneLine) {
       // 5 dx wide along x: less than two cutoffs (5.2 dx).
       {replaced(replaced(tg, "upper = [1.0, 1.0]\nperiodic", "upper = [0.05, 1.0]\nperiodic"), "upper = [1.0, 1.0]\n\n[[body]]",
                 "upper = [0.05, 1.0]\n\n[[body]]"),
-       "taylor_green_2d.toml:27: key 'domain.periodic': the domain is 0.05 wide along periodic axis x, narrower than two cutoffs"},
+       "taylor_green_2d.toml:26: key 'domain.periodic': the domain is 0.05 wide along periodic axis x, narrower than two cutoffs"},
       {replaced(replaced(tg, "upper = [1.0, 1.0]\nperiodic", "upper = [1.005, 1.0]\nperiodic"), "upper = [1.0, 1.0]\n\n[[body]]",
                 "upper = [1.005, 1.0]\n\n[[body]]"),
        "key 'domain.periodic': the domain's length along periodic axis x (1.005) is not a whole number of particle spacings"},
