@@ -34,10 +34,10 @@ ctest --preset default -j "$jobs" -LE validation
 # also labelled validation) takes hours on two cores and is run by hand and on the GPU
 # (docs/particle_generation.md); the finer dam breaks run on a GPU (scripts/sph_validation_gpu.sh).
 stage "SPH validation against experiments and peers (gating)"
-ctest --preset default -L validation -LE open -R '^(test_sph_validation|test_sph_periodic\.TaylorGreenDecayRate\.par$)' --output-on-failure
+ctest --preset default -j "$jobs" -L validation -LE open -R '^(test_sph_validation|test_sph_periodic\.TaylorGreenDecayRate\.par$)' --output-on-failure
 # The bands the method does not meet yet (label `open`): run and printed, not gating.
 stage "SPH validation: the bands not met yet (reported, not gating)"
-ctest --preset default -L open -R '^test_sph_validation' --output-on-failure || echo "validation: the open bands are outside their bounds, as docs/validation.md reports"
+ctest --preset default -j "$jobs" -L open -R '^test_sph_validation' --output-on-failure || echo "validation: the open bands are outside their bounds, as docs/validation.md reports"
 
 stage "configure + build (asan preset)"
 cmake --preset asan
