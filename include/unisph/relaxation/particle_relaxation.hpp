@@ -228,7 +228,6 @@ class ParticleRelaxation {
     surface_distance_->count_owned_of(set);
     surface_space_ = -1;  // the new residual method takes the surface at the next use
   }
-  bool periodic() const { return images_ != nullptr; }
 
   Body<Real, D>& body() { return *body_; }
   Index size() const { return body_->particles().owned_count(); }

@@ -88,10 +88,11 @@ struct RelaxedFill {
 // The particles of `region` within `within`, seeded on the lattice x = (i + 1/2) dx (the lattice
 // of fill_with_particles with origin 0) and relaxed for `iterations` (RelaxationSettings'
 // schedule: FIRE, its quench, a final descent). Returns the positions in the relaxation's order.
-// Along the axes a with periodic[a], `within` is a periodic domain: the region continues across
-// its faces (PeriodicShapeDistanceField), the particles wrap through them and see their
-// neighbours beyond them (ParticleRelaxation::make_periodic); `within` must then be a whole
-// number of dx long there, for the lattice to close on itself.
+// Along the axes a with periodic[a], `within` is a periodic domain that the region must fill
+// (no surface within reach of a particle but the region's own faces on the periodic faces:
+// PeriodicShapeDistance); the particles wrap through those faces, see their neighbours beyond
+// them and relax against no surface (ParticleRelaxation::make_periodic); `within` must then be a
+// whole number of dx long there, for the lattice to close on itself.
 template <ExecutionPolicy P, int D>
 std::vector<Vec<Real, D>> relax_in_shape(P policy, const Shape<D>& region, Real dx, const Box<Real, D>& within,
                                          int iterations, RelaxedFill* report = nullptr,
