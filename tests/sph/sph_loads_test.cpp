@@ -332,8 +332,8 @@ TYPED_TEST(HydrostaticLoads, BoxTank2DThroughSolverLoads) {
 // The tank translating at constant velocity (issue 22): its walls' loads through report.loads
 // equal the static ones — the same tank with its walls moving at speed 0, which takes the moving
 // walls' path and cells, so that the comparison sees the motion — within 1 %, and the hydrostatic
-// values within the bounds of BoxTank2DThroughSolverLoads. The walls move by 0.25 sqrt(g d) (half
-// a tank width over the window).
+// values within the bounds of BoxTank2DThroughSolverLoads. The walls move at 0.25 sqrt(g d) (a
+// quarter of the tank's width over the window).
 TYPED_TEST(HydrostaticLoads, BoxTank2DAtConstantVelocity) {
   const double dx = 1.0 / 20, width = 2.0, window = 2.0, speed = 0.25;
   auto moving = solver_with_loads<double, 2>(moving_box_tank_2d(dx, width, 20.0, speed, window),
