@@ -115,11 +115,12 @@ std::string box_shape(const std::string& name, const std::vector<double>& lower,
 std::string wall_body(const std::string& name) {
   return "[[body]]\nname = \"" + name + "\"\nkind = \"wall\"\nshape = \"" + name + "\"\n";
 }
-// What every case here shares: the fluid of hydrostatic_2d.toml, water at rest of depth 1
-// started hydrostatic and settled.
-std::string common(double settling) {
+// What every case here shares: the fluid of hydrostatic_2d.toml, water of depth 1 started
+// hydrostatic and settled; given `water_velocity` after the settling where one is named.
+std::string common(double settling, const std::vector<double>& water_velocity = {}) {
   std::ostringstream s;
   s << "[[body]]\nname = \"water\"\nkind = \"fluid\"\nshape = \"water\"\n"
+    << (water_velocity.empty() ? std::string() : "velocity = " + numbers(water_velocity) + "\n")
     << "[fluid]\ndensity = 1.0\nreference_velocity = 2.0\nsound_speed = 20.0\ncontinuity_dissipation = true\n"
     << "[initial]\nstate = \"hydrostatic\"\nfree_surface = 1.0\nsettling_time = " << settling
     << "\nsettling_damping = 1.0\n[time]\nend = 10.0\n";
@@ -186,10 +187,7 @@ std::string moving_box_tank_2d(double dx, double width, double settling, double 
     << box_shape("right", {width, 0}, {width + e, top + e}) << box_shape("water", {0, 0}, {width, 1.0});
   for (const char* wall : {"floor", "left", "right"})
     s << wall_body(wall) << "[body.translation]\nlaw = \"constant\"\ndirection = [1.0, 0.0]\nvelocity = " << speed << "\n";
-  s << "[[body]]\nname = \"water\"\nkind = \"fluid\"\nshape = \"water\"\nvelocity = " << numbers({speed, 0.0}) << "\n"
-    << "[fluid]\ndensity = 1.0\nreference_velocity = 2.0\nsound_speed = 20.0\ncontinuity_dissipation = true\n"
-    << "[initial]\nstate = \"hydrostatic\"\nfree_surface = 1.0\nsettling_time = " << settling
-    << "\nsettling_damping = 1.0\n[time]\nend = 10.0\n";
+  s << common(settling, {speed, 0.0});
   return s.str();
 }
 

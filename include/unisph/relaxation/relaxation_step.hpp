@@ -14,7 +14,7 @@
 #include <cmath>
 
 #include "unisph/dynamics/local_dynamics.hpp"
-#include "unisph/particles/particle_set.hpp"
+#include "unisph/relaxation/owned_particles.hpp"
 #include "unisph/relaxation/relaxation_surface.hpp"
 
 namespace unisph {
@@ -98,11 +98,11 @@ class RelaxationStep : public UpdateDynamics<RelaxationStep<D>> {
             fire_, mixing_, steer_, restart_, particle_restart_};
   }
   // Periodic relaxation: the set holds images after its owned particles; only those move.
-  void count_owned_of(const ParticleSet& set) { owned_ = &set; }
-  Index size() const { return owned_ ? owned_->owned_count() : position_.size(); }
+  void count_owned_of(const ParticleSet& set) { owned_.count_owned_of(set); }
+  Index size() const { return owned_.count(position_.size()); }
 
  private:
-  const ParticleSet* owned_ = nullptr;
+  OwnedParticles owned_;
   DiscreteVariable<Position>& position_;
   DiscreteVariable<Position>& velocity_;
   DiscreteVariable<Position>& residual_;
@@ -129,11 +129,11 @@ class PowerAndNorms : public ReduceDynamics<PowerAndNorms<D>, Sum<Vec<Real, 3>>,
   };
   Kernel make_kernel(KernelContext& context) { return {context.read(residual_), context.read(velocity_)}; }
   // Periodic relaxation: the images after the owned particles are not counted.
-  void count_owned_of(const ParticleSet& set) { owned_ = &set; }
-  Index size() const { return owned_ ? owned_->owned_count() : residual_.size(); }
+  void count_owned_of(const ParticleSet& set) { owned_.count_owned_of(set); }
+  Index size() const { return owned_.count(residual_.size()); }
 
  private:
-  const ParticleSet* owned_ = nullptr;
+  OwnedParticles owned_;
   DiscreteVariable<Vec<Real, D>>& residual_;
   DiscreteVariable<Vec<Real, D>>& velocity_;
 };
@@ -159,11 +159,11 @@ class ResidualNorms : public ReduceDynamics<ResidualNorms<D>, MaxAndSum, ReduceO
   };
   Kernel make_kernel(KernelContext& context) { return {context.read(residual_)}; }
   // Periodic relaxation: the images after the owned particles are not counted.
-  void count_owned_of(const ParticleSet& set) { owned_ = &set; }
-  Index size() const { return owned_ ? owned_->owned_count() : residual_.size(); }
+  void count_owned_of(const ParticleSet& set) { owned_.count_owned_of(set); }
+  Index size() const { return owned_.count(residual_.size()); }
 
  private:
-  const ParticleSet* owned_ = nullptr;
+  OwnedParticles owned_;
   DiscreteVariable<Vec<Real, D>>& residual_;
 };
 

@@ -3,7 +3,7 @@
 // the level set's convention), written for output and for the checks of a relaxed set.
 
 #include "unisph/dynamics/local_dynamics.hpp"
-#include "unisph/particles/particle_set.hpp"
+#include "unisph/relaxation/owned_particles.hpp"
 #include "unisph/relaxation/relaxation_surface.hpp"
 
 namespace unisph {
@@ -24,11 +24,11 @@ class SurfaceDistance : public UpdateDynamics<SurfaceDistance<D>> {
     UNISPH_HOST_DEVICE void update(Index i, Real) const { phi[i] = surface.level_set.probe_phi(position[i]); }
   };
   Kernel make_kernel(KernelContext& context) { return {context.read(position_), context.write(phi_), surface_}; }
-  void count_owned_of(const ParticleSet& set) { owned_ = &set; }  // periodic relaxation: not the images
-  Index size() const { return owned_ ? owned_->owned_count() : position_.size(); }
+  void count_owned_of(const ParticleSet& set) { owned_.count_owned_of(set); }  // periodic relaxation: not the images
+  Index size() const { return owned_.count(position_.size()); }
 
  private:
-  const ParticleSet* owned_ = nullptr;
+  OwnedParticles owned_;
   DiscreteVariable<Vec<Real, D>>& position_;
   DiscreteVariable<Real>& phi_;
   RelaxationSurface<D> surface_{};

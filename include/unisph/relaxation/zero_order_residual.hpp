@@ -16,6 +16,7 @@
 
 #include "unisph/dynamics/local_dynamics.hpp"
 #include "unisph/neighbor/inner_relation.hpp"
+#include "unisph/relaxation/owned_particles.hpp"
 #include "unisph/relaxation/relaxation_surface.hpp"
 #include "unisph/smoothing/wendland_kernel.hpp"
 
@@ -67,11 +68,11 @@ class ZeroOrderResidual : public InteractionDynamics<ZeroOrderResidual<D>> {
     return {inner_.search(context), context.read(volume_), context.write(residual_), context.write(kernel_sum_),
             surface_, kernel_};
   }
-  void count_owned_of(const ParticleSet& set) { owned_ = &set; }  // periodic relaxation: not the images
-  Index size() const { return owned_ ? owned_->owned_count() : volume_.size(); }
+  void count_owned_of(const ParticleSet& set) { owned_.count_owned_of(set); }  // periodic relaxation: not the images
+  Index size() const { return owned_.count(volume_.size()); }
 
  private:
-  const ParticleSet* owned_ = nullptr;
+  OwnedParticles owned_;
   InnerRelation<Real, D>& inner_;
   DiscreteVariable<Real>& volume_;
   DiscreteVariable<Position>& residual_;
