@@ -12,6 +12,10 @@
 #            the rate one GPU reaches on each GPU's share, which bounds the strong speed-up on N
 #            (N times the share's rate over the whole case's)
 #
+# OVERLAP_AB=1 runs the strong and weak cases on the largest count once more with
+# UNISPH_HALO_OVERLAP=0 (the ghosts' refreshes not overlapped with the interior particles' work;
+# names ending in _whole), to measure what the overlap gives.
+#
 # For each run one line (and OUT/scaling.csv): GPUs, transport, fluid particles, acoustic steps,
 # the time loop and its snapshots, fluid-particle acoustic steps per second without them, and
 # the slowest rank's time in acoustic steps (ghost refreshes among them), in the ends of advection
@@ -36,8 +40,10 @@ run() {  # name gpus transport case
   local dir="$W/$name"
   local cmd=("$B/run" unisph run "$case" --policy device --precision float --dx "$DX" --end-time "$END" --output "$dir" --quiet)
   if [ "$n" -gt 1 ]; then
+    local overlap=()
+    [[ "$name" == *_whole ]] && overlap=(-x UNISPH_HALO_OVERLAP=0)
     UNISPH_TRANSPORT=$transport timeout "$LIMIT" mpirun --allow-run-as-root --bind-to none -x NCCL_NVLS_ENABLE -x UNISPH_TRANSPORT \
-      -np "$n" "${cmd[@]}" > "$dir.out" 2>&1 || echo "$name FAILED: $(tail -1 "$dir.out")"
+      "${overlap[@]}" -np "$n" "${cmd[@]}" > "$dir.out" 2>&1 || echo "$name FAILED: $(tail -1 "$dir.out")"
   else
     timeout "$LIMIT" "${cmd[@]}" > "$dir.out" 2>&1 || echo "$name FAILED: $(tail -1 "$dir.out")"
   fi
@@ -50,7 +56,7 @@ run() {  # name gpus transport case
         x = field($0, "exchanging and plans "); r = field($0, "ghost refreshes in them ");
         if (a > am) am = a; if (e > em) em = e; if (x > xm) xm = x; if (r > rm) rm = r }
     END{ printf "%-13s %d GPU %-11s fluid %9d acoustic %4d loop %6.2f s (snapshots %5.2f s) %.3e steps/s | slowest rank: acoustic %.3f s (refreshes %.3f s), step ends %.3f s, exchange+plans %.2f ms/step\n", name, n, t, f, s, l, w, rate, am, rm, em, xm
-         printf "%d,%s,%s,%d,%d,%.3f,%.3f,%.4e,%.3f,%.3f,%.3f,%.3f\n", n, (name ~ /^weak/ ? "weak" : name ~ /^share/ ? "share" : "strong"), t, f, s, l, w, rate, am, rm, em, xm >> OUT_CSV }' \
+         printf "%d,%s,%s,%d,%d,%.3f,%.3f,%.4e,%.3f,%.3f,%.3f,%.3f\n", n, (name ~ /^weak/ ? "weak" : name ~ /^share/ ? "share" : "strong") (name ~ /_whole$/ ? "_whole" : ""), t, f, s, l, w, rate, am, rm, em, xm >> OUT_CSV }' \
     OUT_CSV="$OUT/scaling.csv" "$dir/run.log"
 }
 
@@ -59,6 +65,7 @@ for n in "${GPUS[@]}"; do
   run "strong_$n" "$n" nccl "$HERE/cases/dambreak_3d.toml"
 done
 [ "$largest" -gt 1 ] && run "strong_${largest}_host" "$largest" host_staged "$HERE/cases/dambreak_3d.toml"
+[ "$largest" -gt 1 ] && [ "${OVERLAP_AB:-0}" = 1 ] && run "strong_${largest}_whole" "$largest" nccl "$HERE/cases/dambreak_3d.toml"
 for n in "${GPUS[@]}"; do
   [ "$n" -gt 1 ] || continue
   width=$(awk -v n="$n" 'BEGIN{print 0.5 * n}')
@@ -67,6 +74,7 @@ for n in "${GPUS[@]}"; do
       -e "s/^name = \"dambreak_3d\"/name = \"dambreak_3d_weak_$n\"/" "$HERE/cases/dambreak_3d.toml" > "$W/weak_$n.toml"
   grep -q "tank = \[5.366, 2.0, $width\]" "$W/weak_$n.toml" || { echo "weak case $n not made"; continue; }
   run "weak_$n" "$n" nccl "$W/weak_$n.toml"
+  [ "${OVERLAP_AB:-0}" = 1 ] && [ "$n" = "$largest" ] && run "weak_${n}_whole" "$n" nccl "$W/weak_$n.toml"
 done
 for n in "${GPUS[@]}"; do
   [ "$n" -gt 1 ] || continue

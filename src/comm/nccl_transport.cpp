@@ -31,20 +31,35 @@ class Nccl final : public Transport {
 
   void exchange(MemorySpace space, const void* send, std::span<const std::uint64_t> send_offsets, void* recv,
                 std::span<const std::uint64_t> recv_offsets) override {
+    post(space, send, send_offsets, recv, recv_offsets, static_cast<cudaStream_t>(cuda::stream_handle()));
+  }
+  // The group on the side stream, after the main stream's packing; finish() puts the main
+  // stream after it.
+  void begin(MemorySpace space, const void* send, std::span<const std::uint64_t> send_offsets, void* recv,
+             std::span<const std::uint64_t> recv_offsets) override {
+    post(space, send, send_offsets, recv, recv_offsets, static_cast<cudaStream_t>(cuda::side_stream_handle()));
+  }
+  void finish() override { cuda::main_wait_side_stream("NCCL transport: receiving"); }
+  bool overlaps() const override { return true; }
+
+ private:
+  // The piece for this rank itself is copied on the main stream; the group goes to `stream`
+  // (the main one, or the side one after the main stream's work so far).
+  void post(MemorySpace space, const void* send, std::span<const std::uint64_t> send_offsets, void* recv,
+            std::span<const std::uint64_t> recv_offsets, cudaStream_t stream) {
     if (space != MemorySpace::device)
       throw Error("the NCCL transport moves device buffers; use host_staged for the seq and par policies");
     const int p = comm_.size(), me = comm_.rank();
     if (send_offsets.size() != std::size_t(p) + 1 || recv_offsets.size() != std::size_t(p) + 1)
       throw Error("transport: offsets must have ranks + 1 entries");
     connect();
-    cudaStream_t stream = static_cast<cudaStream_t>(cuda::stream_handle());
     const auto* s = static_cast<const char*>(send);
     auto* r = static_cast<char*>(recv);
-    // The piece for this rank itself: a copy on the stream.
     const std::uint64_t own = send_offsets[std::size_t(me) + 1] - send_offsets[std::size_t(me)];
     if (own)
       cuda::copy_on_device(r + recv_offsets[std::size_t(me)], s + send_offsets[std::size_t(me)], own,
                            "NCCL transport: own piece");
+    if (stream != static_cast<cudaStream_t>(cuda::stream_handle())) cuda::side_stream_wait_main("NCCL transport: packing");
     check_nccl(ncclGroupStart(), "ncclGroupStart");
     for (int q = 0; q < p; ++q) {
       if (q == me) continue;
@@ -56,7 +71,6 @@ class Nccl final : public Transport {
     check_nccl(ncclGroupEnd(), "ncclGroupEnd");
   }
 
- private:
   void connect() {
     if (nccl_) return;
     ncclUniqueId id{};

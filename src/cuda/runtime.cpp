@@ -149,6 +149,79 @@ void* stream_handle() {
 
 static cudaStream_t stream() { return static_cast<cudaStream_t>(stream_handle()); }
 
+void* side_stream_handle() {
+  static cudaStream_t side = [] {
+    require_device();
+    int least = 0, greatest = 0;
+    check(cudaDeviceGetStreamPriorityRange(&least, &greatest), "reading the stream priorities");
+    cudaStream_t s{};
+    check(cudaStreamCreateWithPriority(&s, cudaStreamNonBlocking, greatest), "creating the unisph side stream");
+    return s;
+  }();
+  return side;
+}
+
+namespace {
+// Two events that order one stream after the other (reused: a wait takes the event's state when
+// it is queued).
+cudaEvent_t ordering_event(int which) {
+  static cudaEvent_t events[2] = {[] {
+                                    cudaEvent_t e{};
+                                    check(cudaEventCreateWithFlags(&e, cudaEventDisableTiming), "creating an event");
+                                    return e;
+                                  }(),
+                                  [] {
+                                    cudaEvent_t e{};
+                                    check(cudaEventCreateWithFlags(&e, cudaEventDisableTiming), "creating an event");
+                                    return e;
+                                  }()};
+  return events[which];
+}
+struct TimeMarks {
+  std::vector<cudaEvent_t> events;
+  std::size_t used = 0;
+};
+TimeMarks& time_marks() {
+  static TimeMarks marks;
+  return marks;
+}
+}  // namespace
+
+void side_stream_wait_main(std::string_view what) {
+  const cudaEvent_t e = ordering_event(0);
+  check(cudaEventRecord(e, stream()), std::string(what) + ": recording the main stream's event");
+  check(cudaStreamWaitEvent(static_cast<cudaStream_t>(side_stream_handle()), e, 0),
+        std::string(what) + ": the side stream waiting for the main stream");
+}
+
+void main_wait_side_stream(std::string_view what) {
+  const cudaEvent_t e = ordering_event(1);
+  check(cudaEventRecord(e, static_cast<cudaStream_t>(side_stream_handle())),
+        std::string(what) + ": recording the side stream's event");
+  check(cudaStreamWaitEvent(stream(), e, 0), std::string(what) + ": the main stream waiting for the side stream");
+}
+
+int mark_time() {
+  TimeMarks& m = time_marks();
+  if (m.used == m.events.size()) {
+    cudaEvent_t e{};
+    check(cudaEventCreate(&e), "creating a timing event");
+    m.events.push_back(e);
+  }
+  check(cudaEventRecord(m.events[m.used], stream()), "recording a timing event");
+  return static_cast<int>(m.used++);
+}
+
+double seconds_between(int a, int b) {
+  TimeMarks& m = time_marks();
+  check(cudaEventSynchronize(m.events[std::size_t(b)]), "waiting for a timing event");
+  float ms = 0;
+  check(cudaEventElapsedTime(&ms, m.events[std::size_t(a)], m.events[std::size_t(b)]), "reading a timing event");
+  return 1e-3 * double(ms);
+}
+
+void clear_time_marks() { time_marks().used = 0; }
+
 int multiprocessor_count() {
   static const int count = [] {
     require_device();
@@ -375,6 +448,12 @@ void describe_device(ExecutionInfo& info) {
 void check(int, std::string_view) {}
 void check_launch(std::string_view, std::size_t) {}
 void* stream_handle() { unavailable(); }
+void* side_stream_handle() { unavailable(); }
+void side_stream_wait_main(std::string_view) { unavailable(); }
+void main_wait_side_stream(std::string_view) { unavailable(); }
+int mark_time() { unavailable(); }
+double seconds_between(int, int) { unavailable(); }
+void clear_time_marks() {}
 void* pinned_result_buffer() { unavailable(); }
 int multiprocessor_count() { unavailable(); }
 void* allocate(std::size_t, std::string_view) { unavailable(); }

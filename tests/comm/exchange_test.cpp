@@ -14,6 +14,7 @@
 #include "comm_test_support.hpp"
 #include "support/policy_test.hpp"
 #include "unisph/comm/halo.hpp"
+#include "unisph/comm/interior_split.hpp"
 #include "unisph/comm/migrate.hpp"
 
 namespace {
@@ -183,6 +184,50 @@ std::vector<std::tuple<std::uint64_t, Vec<int, D>>> expected_ghosts(const Scenar
   return out;
 }
 
+// Every owned particle listed once, the interior ones ascending then the border ones; no particle
+// of another rank, and no periodic image of any particle, within the cutoff of an interior one
+// (by brute force over the whole set, with the nearest image along periodic axes).
+template <int D>
+void check_interior_split(Scenario<D>& s, const Decomposition<D>& d, InteriorSplit<D>& split) {
+  const auto items = split.items(SequencedPolicy{});
+  ASSERT_EQ(split.size(), s.owned);
+  std::vector<int> seen(s.owned, 0);
+  int order = 0;
+  for (Index k = 0; k < items.size(); ++k) {
+    ASSERT_LT(items[k], s.owned);
+    ++seen[items[k]];
+    if (k > 0 && k != split.interior_count()) order += items[k] <= items[k - 1];
+  }
+  EXPECT_EQ(order, 0) << "each part must be in index order";
+  EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), std::ptrdiff_t(s.owned)) << "each owned particle once";
+  const auto xs = s.vars.template get<Vec<Real, D>>("Position").to_vector();
+  const int me = s.comm.rank();
+  int reached = 0;
+  for (Index k = 0; k < split.interior_count(); ++k) {
+    const Vec<Real, D>& x = xs[items[k]];
+    for (int a = 0; a < D; ++a)
+      if (s.grid.periodic[a])
+        reached += std::min(x[a] - s.grid.box.lower[a], s.grid.box.upper[a] - x[a]) < s.cutoff;
+    for (std::size_t j = 0; j < s.n; ++j) {
+      if (d.owner(s.global[j]) == me) continue;
+      Real d2 = 0;
+      for (int a = 0; a < D; ++a) {
+        Real gap = std::abs(s.global[j][a] - x[a]);
+        if (s.grid.periodic[a]) gap = std::min(gap, s.grid.period()[a] - gap);
+        d2 += gap * gap;
+      }
+      reached += d2 < s.cutoff * s.cutoff;
+    }
+  }
+  EXPECT_EQ(reached, 0) << "rank " << me << ": a ghost within the cutoff of an interior particle";
+  // As many interior particles as the host's table gives (none where every cell touches a
+  // periodic face), and border particles wherever there are other ranks.
+  Index interior = 0;
+  for (Index k = 0; k < s.owned; ++k) interior += d.interior(s.grid.cell_of(xs[k]));
+  EXPECT_EQ(split.interior_count(), interior);
+  if (s.comm.size() > 1) EXPECT_GT(s.comm.allreduce_sum(std::uint64_t(split.border_count())), 0u);
+}
+
 template <int D, class P>
 void halo_and_check(P policy, Scenario<D>& s, DecompositionMethod method) {
   const std::size_t b = s.slice_begin(), e = s.slice_end();
@@ -263,6 +308,21 @@ void halo_and_check(P policy, Scenario<D>& s, DecompositionMethod method) {
     stale += fs2[k].v != ids[k] % 251;
   }
   EXPECT_EQ(stale, 0);
+
+  // The same in two halves around work on the interior particles: owned masses tripled arrive.
+  {
+    View<double> m = s.vars.template get<double>("Mass").read_write(MemorySpace::host);
+    for (Index k = 0; k < s.owned; ++k) m[k] = 3 * comm_test::mass_of(ids[k]);
+  }
+  halo.refresh_begin(policy, *transport, s.vars, s.owned, "Position", names);
+  InteriorSplit<D> split;
+  split.build(policy, d, View<const Vec<Real, D>>(s.vars.template get<Vec<Real, D>>("Position").read(policy).data(), s.owned));
+  halo.refresh_end(policy, s.owned);
+  const auto ms3 = s.vars.template get<double>("Mass").to_vector();
+  stale = 0;
+  for (Index k = s.owned; k < s.vars.size(); ++k) stale += ms3[k] != 3 * comm_test::mass_of(ids[k]);
+  EXPECT_EQ(stale, 0);
+  check_interior_split(s, d, split);
 }
 
 UNISPH_POLICY_TEST_SUITE(CommHalo);

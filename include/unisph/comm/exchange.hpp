@@ -109,7 +109,9 @@ inline Layout layout(std::span<const std::uint64_t> counts, std::span<const std:
 
 }  // namespace exchange_detail
 
-// Moves variables along a plan. Reusable: the buffers and layout tables grow as needed.
+// Moves variables along a plan. Reusable: the buffers and layout tables grow as needed, and the
+// layout tables reach the device only when they change (a halo's refreshes send the same
+// variables along the same plan many times per step).
 class VariableExchange {
  public:
   // Packs element plan.export_index()[k] of each variable, exchanges, and unpacks the received
@@ -121,16 +123,34 @@ class VariableExchange {
   template <ExecutionPolicy P, class BeforeUnpack, class PackOverride>
   void run(P policy, const Plan& plan, Transport& transport, std::span<VariableBase* const> variables,
            Index first_slot, BeforeUnpack&& before_unpack, PackOverride&& pack_override) {
+    start(policy, plan, transport, variables, pack_override, false);
+    before_unpack();
+    complete(policy, plan, variables, first_slot);
+  }
+
+  // The same in two halves around work that reads neither the packed variables' received
+  // elements nor changes their sent ones: start() packs and begins the transport's exchange
+  // (Transport::begin), complete() finishes it and unpacks. The variables keep their sizes
+  // in between.
+  template <ExecutionPolicy P, class PackOverride>
+  void start(P policy, const Plan& plan, Transport& transport, std::span<VariableBase* const> variables,
+             PackOverride&& pack_override, bool split = true) {
     using namespace exchange_detail;
     const std::size_t p = std::size_t(plan.ranks());
-    std::vector<std::size_t> sizes;
-    for (VariableBase* v : variables) sizes.push_back(v->element_size());
-    const Layout send = layout(plan.send_counts(), sizes);
-    const Layout recv = layout(plan.recv_counts(), sizes);
-    send_segments_.assign(send.segment);
-    recv_segments_.assign(recv.segment);
+    sizes_.clear();
+    for (VariableBase* v : variables) sizes_.push_back(v->element_size());
+    const Layout send = layout(plan.send_counts(), sizes_);
+    recv_layout_ = layout(plan.recv_counts(), sizes_);
+    if (send.segment != sent_segments_) {
+      send_segments_.assign(send.segment);
+      sent_segments_ = send.segment;
+    }
+    if (recv_layout_.segment != received_segments_) {
+      recv_segments_.assign(recv_layout_.segment);
+      received_segments_ = recv_layout_.segment;
+    }
     send_buffer_.resize(std::max<Index>(send_buffer_.size(), send.block[p] / 4));
-    recv_buffer_.resize(std::max<Index>(recv_buffer_.size(), recv.block[p] / 4));
+    recv_buffer_.resize(std::max<Index>(recv_buffer_.size(), recv_layout_.block[p] / 4));
 
     View<const std::uint32_t> index = plan.export_index_variable().read(policy);
     View<const std::int32_t> send_rank = plan.export_rank_variable().read(policy);
@@ -142,7 +162,7 @@ class VariableExchange {
       const View<const std::uint64_t> segment = send_segment.subview(v * p, p);
       const void* src = variables[v]->prepare(P::space, Access::read);
       if (pack_override(v, policy, index, send_rank, send_items, segment, src, send_bytes)) continue;
-      const std::size_t e = sizes[v];
+      const std::size_t e = sizes_[v];
       if (e % 4 == 0)
         particle_for(policy, plan.export_count(),
                      PackElements<std::uint32_t>{index, send_rank, send_items, segment,
@@ -153,20 +173,31 @@ class VariableExchange {
                                                  static_cast<const unsigned char*>(src), send_bytes, e});
     }
     auto* recv_bytes = reinterpret_cast<unsigned char*>(recv_buffer_.write(policy).data());
-    transport.exchange(P::space, send_bytes, send.block, recv_bytes, recv.block);
+    transport_ = &transport;
+    if (split)
+      transport.begin(P::space, send_bytes, send.block, recv_bytes, recv_layout_.block);
+    else
+      transport.exchange(P::space, send_bytes, send.block, recv_bytes, recv_layout_.block);
+  }
 
-    before_unpack();
+  template <ExecutionPolicy P>
+  void complete(P policy, const Plan& plan, std::span<VariableBase* const> variables, Index first_slot) {
+    using namespace exchange_detail;
+    if (transport_) transport_->finish();
+    transport_ = nullptr;
     if (plan.import_count() == 0) return;
+    const std::size_t p = std::size_t(plan.ranks());
     View<const std::int32_t> recv_rank = plan.import_rank_variable().read(policy);
     View<const std::uint64_t> recv_items = plan.recv_offsets_variable().read(policy);
     View<const std::uint64_t> recv_segment = recv_segments_.read(policy);
+    const auto* recv_bytes = reinterpret_cast<const unsigned char*>(recv_buffer_.read(policy).data());
     for (std::size_t v = 0; v < variables.size(); ++v) {
       const View<const std::uint64_t> segment = recv_segment.subview(v * p, p);
       if (variables[v]->size() < first_slot + plan.import_count())
         throw Error("exchange: " + variables[v]->describe() + " has no room for " +
                     std::to_string(plan.import_count()) + " received items from index " + std::to_string(first_slot));
-      auto* dst = static_cast<unsigned char*>(variables[v]->prepare(P::space, Access::read_write)) + first_slot * sizes[v];
-      const std::size_t e = sizes[v];
+      auto* dst = static_cast<unsigned char*>(variables[v]->prepare(P::space, Access::read_write)) + first_slot * sizes_[v];
+      const std::size_t e = sizes_[v];
       if (e % 4 == 0)
         particle_for(policy, plan.import_count(),
                      UnpackElements<std::uint32_t>{recv_rank, recv_items, segment, recv_bytes,
@@ -182,6 +213,10 @@ class VariableExchange {
   DiscreteVariable<std::uint64_t> recv_segments_{"Exchange.RecvSegments"};
   DiscreteVariable<std::uint32_t> send_buffer_{"Exchange.SendBuffer"};
   DiscreteVariable<std::uint32_t> recv_buffer_{"Exchange.RecvBuffer"};
+  std::vector<std::uint64_t> sent_segments_, received_segments_;  // what the tables hold
+  std::vector<std::size_t> sizes_;
+  exchange_detail::Layout recv_layout_;
+  Transport* transport_ = nullptr;  // between start() and complete()
 };
 
 }  // namespace unisph::comm

@@ -15,6 +15,9 @@
 //   halo.gather(policy, transport, set, "Position");            ghosts of every sortable variable
 //   ... owned particles move or change ...
 //   halo.refresh(policy, transport, set, "Position", {"Position", "Density"});   only these
+//   halo.refresh_begin(policy, transport, set, "Position", names);  the same in two halves,
+//   ... work that reads no ghost ...                                around work on interior
+//   halo.refresh_end(policy, set);                                  particles (interior_split.hpp)
 //   halo.build(policy, comm, decomposition, positions, cutoff);     the next step's, same storage
 //
 // Ghosts arrive after the owned particles, by source rank, in each source's particle order;
@@ -205,20 +208,43 @@ class Halo {
                std::span<const std::string> names) {
     run(policy, transport, set.variables(), set.owned_count(), position, names, false);
   }
+  // The refresh in two halves, around work that reads no ghost and writes none of the named
+  // variables (the interior particles' interactions): refresh_begin() packs and starts the
+  // exchange (Transport::begin), refresh_end() completes it and fills the ghosts. Nothing else
+  // may use this halo, or exchange through the transport, in between.
+  template <ExecutionPolicy P>
+  void refresh_begin(P policy, Transport& transport, VariableRegistry& variables, Index owned_count,
+                     std::string_view position, std::span<const std::string> names) {
+    select(variables, owned_count, position, names, false);
+    exchange_.start(policy, plan_, transport, std::span<VariableBase* const>(selected_), pack_shifted(policy), true);
+  }
+  template <ExecutionPolicy P>
+  void refresh_end(P policy, Index owned_count) {
+    exchange_.complete(policy, plan_, std::span<VariableBase* const>(selected_), owned_count);
+  }
+  template <ExecutionPolicy P>
+  void refresh_begin(P policy, Transport& transport, ParticleSet& set, std::string_view position,
+                     std::span<const std::string> names) {
+    refresh_begin(policy, transport, set.variables(), set.owned_count(), position, names);
+  }
+  template <ExecutionPolicy P>
+  void refresh_end(P policy, ParticleSet& set) {
+    refresh_end(policy, set.owned_count());
+  }
 
  private:
-  template <ExecutionPolicy P>
-  void run(P policy, Transport& transport, VariableRegistry& variables, Index owned_count, std::string_view position,
-           std::span<const std::string> names, bool resize) {
-    std::vector<VariableBase*> list;
+  // The variables to send (none named: every sortable one), with the checks a refresh needs.
+  void select(VariableRegistry& variables, Index owned_count, std::string_view position,
+              std::span<const std::string> names, bool resize) {
+    selected_.clear();
     if (names.empty()) {
       variables.for_each([&](VariableRegistry::Entry& e) {
-        if (e.flags.sortable) list.push_back(e.variable.get());
+        if (e.flags.sortable) selected_.push_back(e.variable.get());
       });
     } else {
-      for (const std::string& n : names) list.push_back(variables.entry(n).variable.get());
+      for (const std::string& n : names) selected_.push_back(variables.entry(n).variable.get());
     }
-    VariableBase* pos = &variables.template get<Position>(position);  // checks the name and type
+    position_ = &variables.template get<Position>(position);  // checks the name and type
     if (variables.size() != (resize ? variables.size() : owned_count + ghost_count()))
       throw Error("halo: " + variables.owner() + " holds " + std::to_string(variables.size()) + " particles; " +
                   std::to_string(owned_count) + " owned and " + std::to_string(ghost_count()) +
@@ -226,20 +252,30 @@ class Halo {
     if (plan_.export_count() && source_count_ > owned_count)
       throw Error("halo: the plan was built for " + std::to_string(source_count_) + " particles but " +
                   variables.owner() + " owns " + std::to_string(owned_count));
+  }
+  // Packs the position variable shifted by each item's image; the others as they are.
+  template <ExecutionPolicy P>
+  auto pack_shifted(P policy) {
+    return [this, policy](std::size_t v, P, View<const std::uint32_t> index, View<const std::int32_t> rank,
+                          View<const std::uint64_t> items, View<const std::uint64_t> segment, const void* src,
+                          unsigned char* buffer) {
+      if (selected_[v] != position_) return false;
+      particle_for(policy, plan_.export_count(),
+                   exchange_detail::PackShifted<Position>{index, rank, items, segment, shift_.read(policy),
+                                                          static_cast<const Position*>(src), buffer});
+      return true;
+    };
+  }
+  template <ExecutionPolicy P>
+  void run(P policy, Transport& transport, VariableRegistry& variables, Index owned_count, std::string_view position,
+           std::span<const std::string> names, bool resize) {
+    select(variables, owned_count, position, names, resize);
     exchange_.run(
-        policy, plan_, transport, list, owned_count,
+        policy, plan_, transport, std::span<VariableBase* const>(selected_), owned_count,
         [&] {
           if (resize) variables.resize(owned_count + ghost_count());
         },
-        [&](std::size_t v, P, View<const std::uint32_t> index, View<const std::int32_t> rank,
-            View<const std::uint64_t> items, View<const std::uint64_t> segment, const void* src,
-            unsigned char* buffer) {
-          if (list[v] != pos) return false;
-          particle_for(policy, plan_.export_count(),
-                       exchange_detail::PackShifted<Position>{index, rank, items, segment, shift_.read(policy),
-                                                              static_cast<const Position*>(src), buffer});
-          return true;
-        });
+        pack_shifted(policy));
   }
 
   template <ExecutionPolicy P, class PS>
@@ -298,6 +334,8 @@ class Halo {
   DiscreteVariable<Position> shift_{"Halo.Shift"};  // per send item
   Plan plan_;
   VariableExchange exchange_;
+  std::vector<VariableBase*> selected_;  // what the last refresh or gather sends
+  VariableBase* position_ = nullptr;
 };
 
 }  // namespace unisph::comm

@@ -5,7 +5,8 @@
 //                   now); host buffers (seq, par) go to MPI directly. Works everywhere.
 //   nccl            ncclSend/ncclRecv in one group on unisph's CUDA stream, device buffers
 //                   only; the NCCL unique id is sent round with MPI_Bcast. Built where CUDA
-//                   and NCCL are (UNISPH_HAS_NCCL).
+//                   and NCCL are (UNISPH_HAS_NCCL). Its split form (begin/finish) runs the
+//                   group on the side stream, beside the main stream's work.
 //   cuda_aware_mpi  device pointers handed to MPI directly; offered only where
 //                   MPIX_Query_cuda_support() says the MPI library supports it (Debian's Open
 //                   MPI does not: handing it a device pointer crashes).
@@ -48,6 +49,19 @@ class Transport {
   // by later work in `space` (for the device: in the order of unisph's stream).
   virtual void exchange(MemorySpace space, const void* send, std::span<const std::uint64_t> send_offsets, void* recv,
                         std::span<const std::uint64_t> recv_offsets) = 0;
+
+  // The same exchange split in two, so that work reading neither buffer runs in between (the
+  // interior particles' interactions while a halo's bytes move): begin() starts it; until
+  // finish() the send buffer must not change and the receive buffer is not yet usable; after
+  // finish() the received bytes are usable as after exchange(). No other exchange may come in
+  // between. Transports that cannot overlap do the whole exchange in begin() (overlaps():
+  // false): host_staged and cuda_aware_mpi.
+  virtual void begin(MemorySpace space, const void* send, std::span<const std::uint64_t> send_offsets, void* recv,
+                     std::span<const std::uint64_t> recv_offsets) {
+    exchange(space, send, send_offsets, recv, recv_offsets);
+  }
+  virtual void finish() {}
+  virtual bool overlaps() const { return false; }
 
  protected:
   explicit Transport(Communicator comm) : comm_(std::move(comm)) {}

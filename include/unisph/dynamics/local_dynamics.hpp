@@ -12,6 +12,7 @@
 //                                                               same bits on every policy (for results
 //                                                               that steer a computation, e.g. FIRE's power)
 
+#include <cstdint>
 #include <type_traits>
 
 #include "unisph/dynamics/kernel_shell.hpp"
@@ -42,6 +43,14 @@ struct CommonCaseLaunch {
   Kernel kernel;
   Real dt;
   UNISPH_HOST_DEVICE void operator()(Index i) const { kernel.template interact<true>(i, dt); }
+};
+// A launch over a list of items: item items[k] for k in [0, items.size()).
+template <class Launch>
+struct ItemsLaunch {
+  static constexpr int min_blocks_per_multiprocessor = Launch::min_blocks_per_multiprocessor;
+  Launch launch;
+  View<const std::uint32_t> items;
+  UNISPH_HOST_DEVICE void operator()(Index k) const { launch(Index(items[k])); }
 };
 template <class Kernel>
 struct ReduceLaunch {
@@ -81,6 +90,22 @@ class InteractionDynamics : public KernelShell<Method> {
       }
     }
     particle_for(policy, n, detail::InteractionLaunch<Kernel>{k, dt});
+  }
+  // The same for the items listed (each below size()), with the values exec() gives them: the
+  // interactions of a subset, e.g. the interior particles while a halo's refresh is in flight.
+  template <ExecutionPolicy P>
+  void exec_items(P policy, View<const std::uint32_t> items, Real dt = Real(0)) {
+    using Kernel = typename Method::Kernel;
+    if (items.size() == 0) return;
+    const Kernel& k = this->kernel(policy);
+    if constexpr (requires { k.common_case(); }) {
+      if (k.common_case()) {
+        particle_for(policy, items.size(),
+                     detail::ItemsLaunch<detail::CommonCaseLaunch<Kernel>>{{k, dt}, items});
+        return;
+      }
+    }
+    particle_for(policy, items.size(), detail::ItemsLaunch<detail::InteractionLaunch<Kernel>>{{k, dt}, items});
   }
 };
 

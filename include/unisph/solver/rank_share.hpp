@@ -18,11 +18,13 @@
 // variable with them; gather() builds the halo and fills the ghosts; refresh() sends the named
 // variables of the same ghosts again.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <memory>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "unisph/comm/communicator.hpp"
@@ -32,6 +34,7 @@
 #include "unisph/comm/migrate.hpp"
 #include "unisph/comm/transport.hpp"
 #include "unisph/core/box.hpp"
+#include "unisph/exec/backend/cuda/runtime.hpp"
 #include "unisph/particles/body.hpp"
 
 namespace unisph::sph {
@@ -246,10 +249,73 @@ class RankShare {
     ++timings_.exchanges;
   }
 
+  // The refresh in two halves (Halo::refresh_begin and refresh_end), around work on the interior
+  // particles. Timed without stopping the host (the device's marks on its stream, read by
+  // settle_timings()): what counts is the time the main stream spends packing, and waiting and
+  // unpacking, not the time the bytes travel beside its work.
+  template <ExecutionPolicy P>
+  void refresh_begin(P policy, Body<T, D>& body, Halo& halo, std::span<const std::string> names) {
+    const Mark a = mark(policy);
+    halo.refresh_begin(policy, *transport_, body.particles(), body.positions().name(), names);
+    spent(a, mark(policy));
+  }
+  template <ExecutionPolicy P>
+  void refresh_end(P policy, Body<T, D>& body, Halo& halo) {
+    const Mark a = mark(policy);
+    halo.refresh_end(policy, body.particles());
+    spent(a, mark(policy));
+    ++timings_.exchanges;
+  }
+  // Adds the device's marks since the last call to the timings (waits until the device passed
+  // them); call it where the device is waited for anyway.
+  void settle_timings() {
+    if (marked_.empty()) return;
+    double t = 0;
+    for (const auto& [a, b] : marked_) t += cuda::seconds_between(a, b);
+    marked_.clear();
+    cuda::clear_time_marks();
+    timings_.exchange_seconds += t;
+    timings_.refresh_seconds += t;
+  }
+
+  // Whether the solver overlaps the ghosts' refreshes with the interior particles' work:
+  // UNISPH_HALO_OVERLAP=1 or 0 where set, else where the transport's exchange runs beside the
+  // device's work (NCCL); host-staged exchanges finish before they return, so there the split
+  // passes would only add launches.
+  bool overlap_refreshes() const {
+    if (const char* v = std::getenv("UNISPH_HALO_OVERLAP"); v && *v) {
+      if (std::string(v) == "1") return true;
+      if (std::string(v) == "0") return false;
+      throw Error("UNISPH_HALO_OVERLAP='" + std::string(v) + "': use 1 or 0");
+    }
+    return transport_->overlaps();
+  }
+
   // Particles sent to another rank by migrate() since the start, on this rank.
   std::uint64_t migrated() const { return migrated_; }
 
  private:
+  // A point in time on the policy's stream: a device event, or the host's clock (host policies
+  // have finished their work when a call returns).
+  struct Mark {
+    int event = -1;
+    std::chrono::steady_clock::time_point at{};
+  };
+  template <ExecutionPolicy P>
+  static Mark mark(P) {
+    if constexpr (P::space == MemorySpace::device) return {cuda::mark_time(), {}};
+    else return {-1, std::chrono::steady_clock::now()};
+  }
+  void spent(const Mark& a, const Mark& b) {
+    if (a.event >= 0) {
+      marked_.emplace_back(a.event, b.event);
+      return;
+    }
+    const double t = seconds(a.at, b.at);
+    timings_.exchange_seconds += t;
+    timings_.refresh_seconds += t;
+  }
+
   // The owned positions in the policy's memory.
   template <ExecutionPolicy P>
   static View<const Vec<T, D>> owned_positions(P policy, Body<T, D>& body) {
@@ -279,6 +345,7 @@ class RankShare {
   comm::VariableExchange exchange_;
   comm::PlanScratch work_;
   Timings timings_;
+  std::vector<std::pair<int, int>> marked_;  // device marks not yet read (settle_timings)
   std::uint64_t decompositions_ = 0;
   bool measure_cut_ = true;  // the first check measures the first cut
   double reached_ = 1;       // max / mean right after the last cut

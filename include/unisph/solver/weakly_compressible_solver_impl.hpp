@@ -12,6 +12,7 @@
 #include <set>
 #include <sstream>
 
+#include "unisph/comm/interior_split.hpp"
 #include "unisph/exec/algorithms.hpp"
 #include "unisph/io/checkpoint_file.hpp"
 #include "unisph/neighbor/cell_linked_list.hpp"
@@ -515,6 +516,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
       for (int a : c.domain.periodic) periodic[a] = 1;
       share = std::make_unique<RankShare<T, D>>(*comm, domain, kernel.cutoff(), kernel.h, space, rebalance_fraction,
                                                 periodic);
+      overlap_refreshes = share->overlap_refreshes();
       // Along periodic axes the halo holds the images across the faces, the own rank's among
       // them; the images' object only wraps the fluid into the box (and gave the cells' box).
       rank_wrap = std::move(fluid_images);
@@ -555,7 +557,11 @@ struct WeaklyCompressibleSolver<T, D>::State {
   template <class P>
   void refresh_ghost_records(P p) {
     share->refresh(p, fluid_body, *fluid_halo, ghost_record_names);
-    // A periodic image's record holds its source's position: shift it as the position was.
+    shift_ghost_image_records(p);
+  }
+  // A periodic image's record holds its source's position: shift it as the position was.
+  template <class P>
+  void shift_ghost_image_records(P p) {
     const Index ghosts = fluid_body.particles().ghost_count();
     if (share->periodic() && ghosts > 0)
       particle_for(p, ghosts,
@@ -914,6 +920,8 @@ struct WeaklyCompressibleSolver<T, D>::State {
       // Ghosts (other ranks' particles, periodic images) may lie outside the cells' box by
       // design: only the owned particles are checked for leaving the domain.
       fluid_cells.report_only_first(fluid.size());
+      if (overlap_refreshes)
+        fluid_split.build(p, share->decomposition(), fluid.position.read(p).subview(0, fluid.size()));
     }
     fluid_cells.build(p);
     // With stored lists, dW/dr of each pair is cached with its geometry (the relaxations read it).
@@ -1086,10 +1094,10 @@ struct WeaklyCompressibleSolver<T, D>::State {
       last_acoustic_dt = dt;
       pressure_start.exec(p, Real(dt));
       for (;;) {
-        if (fluid_images) refresh_image_records(p);
-        if (share) refresh_ghost_records(p);
         place_walls(p, time + relaxed + 0.5 * dt);  // moving walls at the acoustic step's middle
-        relax_pressure(p, Real(dt));
+        with_current_records(
+            p, [&] { relax_pressure(p, Real(dt)); },
+            [&](View<const std::uint32_t> items) { relax_pressure(p, Real(dt), items); });
         sample_loads(p, dt);
         const double speed_before = speed;
         speed = global_max(double(velocity_update_and_max_speed.exec(p, Real(dt))));
@@ -1105,9 +1113,9 @@ struct WeaklyCompressibleSolver<T, D>::State {
         }
         if (damping_rate > 0) velocity_damping.exec(p, Real(std::exp(-damping_rate * dt)));
         if (damping_zone) damping_zone->exec(p, Real(dt));  // [damping_zone]: wave absorption
-        if (fluid_images) refresh_image_records(p);
-        if (share) refresh_ghost_records(p);
-        density_relaxation.exec(p, Real(dt));
+        with_current_records(
+            p, [&] { density_relaxation.exec(p, Real(dt)); },
+            [&](View<const std::uint32_t> items) { density_relaxation.exec_items(p, items, Real(dt)); });
         relaxed += dt;
         ++acoustic_steps;
         const bool more = advection_dt - relaxed > 1e-12 * advection_dt;  // a full last step passes Dt
@@ -1124,6 +1132,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
       }
       const auto loop_end = share ? share->now(p) : std::chrono::steady_clock::time_point{};
       if (share) {
+        share->settle_timings();
         acoustic_loop_seconds += share->seconds(loop_start, loop_end);
         acoustic_refresh_seconds += share->timings().refresh_seconds - refreshed_before_loop;
       }
@@ -1424,6 +1433,31 @@ struct WeaklyCompressibleSolver<T, D>::State {
     else
       pressure_relaxation.exec(p, dt);
   }
+  template <class P>
+  void relax_pressure(P p, Real dt, View<const std::uint32_t> items) {
+    if (corrected_pressure_relaxation)
+      corrected_pressure_relaxation->exec_items(p, items, dt);
+    else
+      pressure_relaxation.exec_items(p, items, dt);
+  }
+  // A relaxation pass (`all()`, or `some(items)` over listed particles) after the images' and
+  // ghosts' neighbour records are made current. Where the refreshes overlap, the interior
+  // particles' part runs while the ghosts' records travel and the border particles' after
+  // them: each particle's sums are those of the whole pass (the same bits).
+  template <class P, class All, class Some>
+  void with_current_records(P p, All&& all, Some&& some) {
+    if (fluid_images) refresh_image_records(p);
+    if (!overlap_refreshes) {
+      if (share) refresh_ghost_records(p);
+      all();
+      return;
+    }
+    share->refresh_begin(p, fluid_body, *fluid_halo, ghost_record_names);
+    some(fluid_split.interior(p));
+    share->refresh_end(p, fluid_body, *fluid_halo);
+    shift_ghost_image_records(p);
+    some(fluid_split.border(p));
+  }
   // fluid.particle_shifting: every fluid particle moved back towards an even arrangement
   // (particle_shifting.hpp), at the start of the advection step, before the density is summed.
   // The kernel sums and the shifts read the neighbours' records, current at the step's start (the
@@ -1631,6 +1665,10 @@ struct WeaklyCompressibleSolver<T, D>::State {
   std::unique_ptr<RankShare<T, D>> share;
   std::unique_ptr<typename RankShare<T, D>::Halo> fluid_halo;
   std::unique_ptr<typename RankShare<T, D>::Halo> wall_halo;
+  // Several ranks, where the refreshes within the acoustic steps overlap the interior particles'
+  // relaxations (RankShare::overlap_refreshes): the owned fluid split after each halo build.
+  bool overlap_refreshes = false;
+  comm::InteriorSplit<D> fluid_split;
   // Several ranks: wall time in the acoustic steps of advance() (ghost refreshes included) and
   // in the ends of its advection steps (migration, sort, halo, neighbour structures).
   double acoustic_loop_seconds = 0;

@@ -30,6 +30,22 @@ void require_device();
 // cudaStream_t of the stream every unisph launch and copy goes to (created on first use).
 void* stream_handle();
 
+// The side stream: a second stream, of higher priority, for transfers that overlap the main
+// stream's work (a halo's exchange beside the interior particles' interactions); its kernels
+// start between the main stream's blocks. side_stream_wait_main(): work queued on the side
+// stream from now on starts after everything queued on the main stream so far;
+// main_wait_side_stream(): the other way round. Neither blocks the host.
+void* side_stream_handle();
+void side_stream_wait_main(std::string_view what);
+void main_wait_side_stream(std::string_view what);
+
+// Timing marks on the main stream (CUDA events, which do not stop the host): mark_time() returns
+// a mark's number; seconds_between(a, b) waits for mark b and gives the device time from a to b.
+// clear_time_marks() recycles every mark taken (call it once their times are read).
+int mark_time();
+double seconds_between(int a, int b);
+void clear_time_marks();
+
 int multiprocessor_count();
 
 void* allocate(std::size_t bytes, std::string_view what);
