@@ -437,6 +437,8 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
           << 1e3 * (rank_plan[std::size_t(r)] + rank_exchange[std::size_t(r)]) /
                  double(std::max<std::uint64_t>(1, solver.acoustic_steps() - first_acoustic_step))
           << " ms per acoustic step";
+  } else {
+    log << "\ntime loop: acoustic steps " << rank_acoustic[0] << " s, advection-step ends " << rank_step_end[0] << " s";
   }
   for (const sph::WallBodyCount& b : solver.wall_bodies()) log << "\nwall body " << b.name << ": " << b.count << " particles";
   for (std::size_t k = 0; k < description.obstacles.size(); ++k)

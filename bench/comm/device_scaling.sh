@@ -19,7 +19,8 @@
 # For each run one line (and OUT/scaling.csv): GPUs, transport, fluid particles, acoustic steps,
 # the time loop and its snapshots, fluid-particle acoustic steps per second without them, and
 # the slowest rank's time in acoustic steps (ghost refreshes among them), in the ends of advection
-# steps, and exchanging with plans per acoustic step (run.log's rank lines, time loop only).
+# steps, and exchanging with plans per acoustic step (run.log's rank lines, time loop only; one
+# GPU: its acoustic steps and step ends).
 set -euo pipefail
 OUT=${1:?usage: BUNDLE=dir device_scaling.sh OUT [GPUS...]}
 shift
@@ -52,6 +53,7 @@ run() {  # name gpus transport case
     function field(line, label,   at) { at = index(line, label); return at ? substr(line, at + length(label)) + 0 : 0 }
     /^fluid particles/{f=$2} /^acoustic steps/{s=$2} /^wall time \(time loop/{l=$2+0}
     /^wall time writing snapshots/{w=$2+0} /^fluid-particle acoustic steps per second, snapshots excluded/{rate=$2}
+    /^time loop: acoustic steps/{ am = field($0, "acoustic steps "); em = field($0, "advection-step ends ") }
     /^rank [0-9]+:/{ a = field($0, "acoustic steps "); e = field($0, "advection-step ends ");
         x = field($0, "exchanging and plans "); r = field($0, "ghost refreshes in them ");
         if (a > am) am = a; if (e > em) em = e; if (x > xm) xm = x; if (r > rm) rm = r }

@@ -31,7 +31,7 @@ class Nccl final : public Transport {
 
   void exchange(MemorySpace space, const void* send, std::span<const std::uint64_t> send_offsets, void* recv,
                 std::span<const std::uint64_t> recv_offsets) override {
-    post(space, send, send_offsets, recv, recv_offsets, static_cast<cudaStream_t>(cuda::stream_handle()));
+    post(space, send, send_offsets, recv, recv_offsets, static_cast<cudaStream_t>(cuda::main_stream_handle()));
   }
   // The group on the side stream, after the main stream's packing; finish() puts the main
   // stream after it.
@@ -39,7 +39,10 @@ class Nccl final : public Transport {
              std::span<const std::uint64_t> recv_offsets) override {
     post(space, send, send_offsets, recv, recv_offsets, static_cast<cudaStream_t>(cuda::side_stream_handle()));
   }
-  void finish() override { cuda::main_wait_side_stream("NCCL transport: receiving"); }
+  // Work queued on the side stream (cuda::SideStreamScope) follows the group already.
+  void finish() override {
+    if (!cuda::on_side_stream()) cuda::main_wait_side_stream("NCCL transport: receiving");
+  }
   bool overlaps() const override { return true; }
 
  private:
@@ -59,7 +62,7 @@ class Nccl final : public Transport {
     if (own)
       cuda::copy_on_device(r + recv_offsets[std::size_t(me)], s + send_offsets[std::size_t(me)], own,
                            "NCCL transport: own piece");
-    if (stream != static_cast<cudaStream_t>(cuda::stream_handle())) cuda::side_stream_wait_main("NCCL transport: packing");
+    if (stream != static_cast<cudaStream_t>(cuda::main_stream_handle())) cuda::side_stream_wait_main("NCCL transport: packing");
     check_nccl(ncclGroupStart(), "ncclGroupStart");
     for (int q = 0; q < p; ++q) {
       if (q == me) continue;

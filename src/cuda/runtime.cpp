@@ -136,7 +136,16 @@ void check_launch(std::string_view what, std::size_t items) {
     check(err, "launch of " + std::string(what) + " over " + std::to_string(items) + " items");
 }
 
-void* stream_handle() {
+namespace {
+thread_local bool on_side = false;  // SideStreamScope
+}
+
+void* stream_handle() { return on_side ? side_stream_handle() : main_stream_handle(); }
+bool on_side_stream() { return on_side; }
+SideStreamScope::SideStreamScope() : previous_(on_side) { on_side = true; }
+SideStreamScope::~SideStreamScope() { on_side = previous_; }
+
+void* main_stream_handle() {
   static cudaStream_t stream = [] {
     require_device();
     cudaStream_t s{};
@@ -148,6 +157,7 @@ void* stream_handle() {
 }
 
 static cudaStream_t stream() { return static_cast<cudaStream_t>(stream_handle()); }
+static cudaStream_t main_stream() { return static_cast<cudaStream_t>(main_stream_handle()); }
 
 void* side_stream_handle() {
   static cudaStream_t side = [] {
@@ -189,7 +199,7 @@ TimeMarks& time_marks() {
 
 void side_stream_wait_main(std::string_view what) {
   const cudaEvent_t e = ordering_event(0);
-  check(cudaEventRecord(e, stream()), std::string(what) + ": recording the main stream's event");
+  check(cudaEventRecord(e, main_stream()), std::string(what) + ": recording the main stream's event");
   check(cudaStreamWaitEvent(static_cast<cudaStream_t>(side_stream_handle()), e, 0),
         std::string(what) + ": the side stream waiting for the main stream");
 }
@@ -198,7 +208,7 @@ void main_wait_side_stream(std::string_view what) {
   const cudaEvent_t e = ordering_event(1);
   check(cudaEventRecord(e, static_cast<cudaStream_t>(side_stream_handle())),
         std::string(what) + ": recording the side stream's event");
-  check(cudaStreamWaitEvent(stream(), e, 0), std::string(what) + ": the main stream waiting for the side stream");
+  check(cudaStreamWaitEvent(main_stream(), e, 0), std::string(what) + ": the main stream waiting for the side stream");
 }
 
 int mark_time() {
@@ -448,6 +458,10 @@ void describe_device(ExecutionInfo& info) {
 void check(int, std::string_view) {}
 void check_launch(std::string_view, std::size_t) {}
 void* stream_handle() { unavailable(); }
+void* main_stream_handle() { unavailable(); }
+bool on_side_stream() { return false; }
+SideStreamScope::SideStreamScope() : previous_(false) {}
+SideStreamScope::~SideStreamScope() = default;
 void* side_stream_handle() { unavailable(); }
 void side_stream_wait_main(std::string_view) { unavailable(); }
 void main_wait_side_stream(std::string_view) { unavailable(); }

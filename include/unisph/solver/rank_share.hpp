@@ -250,20 +250,41 @@ class RankShare {
   }
 
   // The refresh in two halves (Halo::refresh_begin and refresh_end), around work on the interior
-  // particles. Timed without stopping the host (the device's marks on its stream, read by
-  // settle_timings()): what counts is the time the main stream spends packing, and waiting and
-  // unpacking, not the time the bytes travel beside its work.
+  // particles that reads no ghost:
+  //   refresh_begin(...);  interior pass;  refresh_end(..., [&] { border pass; });
+  // On the device the ghosts' filling and `then()` (the border particles' pass) run on the side
+  // stream, after the exchange and beside the main stream's interior pass, and the main stream
+  // waits for them after it; so the small border pass fills the device as the interior pass
+  // drains instead of running alone after it. Timed without stopping the host (marks on the
+  // device's streams, read by settle_timings()): what counts is the main stream's time packing
+  // and waiting for the side stream, not the time the bytes travel beside its work. On the host
+  // the halves run one after the other.
   template <ExecutionPolicy P>
   void refresh_begin(P policy, Body<T, D>& body, Halo& halo, std::span<const std::string> names) {
     const Mark a = mark(policy);
     halo.refresh_begin(policy, *transport_, body.particles(), body.positions().name(), names);
+    // The side stream's filling reads what the main stream wrote so far (a transport's own
+    // piece, a host-staged transport's copy back).
+    if constexpr (P::space == MemorySpace::device) cuda::side_stream_wait_main("halo refresh");
     spent(a, mark(policy));
   }
-  template <ExecutionPolicy P>
-  void refresh_end(P policy, Body<T, D>& body, Halo& halo) {
-    const Mark a = mark(policy);
-    halo.refresh_end(policy, body.particles());
-    spent(a, mark(policy));
+  template <ExecutionPolicy P, class Then>
+  void refresh_end(P policy, Body<T, D>& body, Halo& halo, Then&& then) {
+    if constexpr (P::space == MemorySpace::device) {
+      {
+        cuda::SideStreamScope side;
+        halo.refresh_end(policy, body.particles());
+        then();
+      }
+      const Mark a = mark(policy);
+      cuda::main_wait_side_stream("halo refresh");
+      spent(a, mark(policy));
+    } else {
+      const Mark a = mark(policy);
+      halo.refresh_end(policy, body.particles());
+      spent(a, mark(policy));
+      then();
+    }
     ++timings_.exchanges;
   }
   // Adds the device's marks since the last call to the timings (waits until the device passed

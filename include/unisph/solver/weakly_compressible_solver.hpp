@@ -119,7 +119,7 @@ class WeaklyCompressibleSolver {
   std::string transport() const;
   // Several ranks: this rank's wall time in building the migration and halo plans and in
   // exchanging particles and ghosts (packing, transport, unpacking), the device waited for at
-  // each end; zeros on one rank.
+  // each end; zeros on one rank. The acoustic steps' and the step ends' times on any number.
   struct RankTimings {
     double plan_seconds = 0;
     double exchange_seconds = 0;  // migrate + gather + refresh

@@ -1074,8 +1074,8 @@ struct WeaklyCompressibleSolver<T, D>::State {
         diagnose(s.str());
       };
       double relaxed = 0;
-      // Several ranks: where the time goes (the device waited for at each mark).
-      const auto loop_start = share ? share->now(p) : std::chrono::steady_clock::time_point{};
+      // Where the time goes (the device waited for at each mark; on one rank too, to compare).
+      const auto loop_start = RankShare<T, D>::now(p);
       const double refreshed_before_loop = share ? share->timings().refresh_seconds : 0.0;
       // The last step is shortened to end at Dt, or kept whole where the case asks for it
       // (time.last_acoustic_step); never past `until`, and never longer than a Dt that the
@@ -1130,10 +1130,10 @@ struct WeaklyCompressibleSolver<T, D>::State {
         dt = next;
         last_acoustic_dt = dt;
       }
-      const auto loop_end = share ? share->now(p) : std::chrono::steady_clock::time_point{};
+      const auto loop_end = RankShare<T, D>::now(p);
+      acoustic_loop_seconds += RankShare<T, D>::seconds(loop_start, loop_end);
       if (share) {
         share->settle_timings();
-        acoustic_loop_seconds += share->seconds(loop_start, loop_end);
         acoustic_refresh_seconds += share->timings().refresh_seconds - refreshed_before_loop;
       }
       time += relaxed;
@@ -1168,7 +1168,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
         ++fluid_ghost_samples;
       }
       rebuild(p);
-      if (share) step_end_seconds += share->seconds(loop_end, share->now(p));
+      step_end_seconds += RankShare<T, D>::seconds(loop_end, RankShare<T, D>::now(p));
     });
   }
 
@@ -1443,7 +1443,8 @@ struct WeaklyCompressibleSolver<T, D>::State {
   // A relaxation pass (`all()`, or `some(items)` over listed particles) after the images' and
   // ghosts' neighbour records are made current. Where the refreshes overlap, the interior
   // particles' part runs while the ghosts' records travel and the border particles' after
-  // them: each particle's sums are those of the whole pass (the same bits).
+  // them (on the device beside the interior part: RankShare::refresh_end): each particle's
+  // sums are those of the whole pass (the same bits).
   template <class P, class All, class Some>
   void with_current_records(P p, All&& all, Some&& some) {
     if (fluid_images) refresh_image_records(p);
@@ -1454,9 +1455,10 @@ struct WeaklyCompressibleSolver<T, D>::State {
     }
     share->refresh_begin(p, fluid_body, *fluid_halo, ghost_record_names);
     some(fluid_split.interior(p));
-    share->refresh_end(p, fluid_body, *fluid_halo);
-    shift_ghost_image_records(p);
-    some(fluid_split.border(p));
+    share->refresh_end(p, fluid_body, *fluid_halo, [&] {
+      shift_ghost_image_records(p);
+      some(fluid_split.border(p));
+    });
   }
   // fluid.particle_shifting: every fluid particle moved back towards an even arrangement
   // (particle_shifting.hpp), at the start of the advection step, before the density is summed.
@@ -1669,8 +1671,8 @@ struct WeaklyCompressibleSolver<T, D>::State {
   // relaxations (RankShare::overlap_refreshes): the owned fluid split after each halo build.
   bool overlap_refreshes = false;
   comm::InteriorSplit<D> fluid_split;
-  // Several ranks: wall time in the acoustic steps of advance() (ghost refreshes included) and
-  // in the ends of its advection steps (migration, sort, halo, neighbour structures).
+  // Wall time in the acoustic steps of advance() (ghost refreshes included) and in the ends of
+  // its advection steps (migration, sort, halo, neighbour structures), on any number of ranks.
   double acoustic_loop_seconds = 0;
   double acoustic_refresh_seconds = 0;  // the ghost refreshes within the acoustic steps
   double step_end_seconds = 0;
@@ -1720,15 +1722,16 @@ std::string WeaklyCompressibleSolver<T, D>::transport() const {
 }
 template <class T, int D>
 typename WeaklyCompressibleSolver<T, D>::RankTimings WeaklyCompressibleSolver<T, D>::rank_timings() const {
-  if (!state_->share) return {};
-  const auto& t = state_->share->timings();
   RankTimings r;
-  r.plan_seconds = t.plan_seconds;
-  r.exchange_seconds = t.exchange_seconds;
-  r.migrate_seconds = t.migrate_seconds;
-  r.gather_seconds = t.gather_seconds;
-  r.refresh_seconds = t.refresh_seconds;
-  r.exchanges = t.exchanges;
+  if (state_->share) {
+    const auto& t = state_->share->timings();
+    r.plan_seconds = t.plan_seconds;
+    r.exchange_seconds = t.exchange_seconds;
+    r.migrate_seconds = t.migrate_seconds;
+    r.gather_seconds = t.gather_seconds;
+    r.refresh_seconds = t.refresh_seconds;
+    r.exchanges = t.exchanges;
+  }
   r.acoustic_loop_seconds = state_->acoustic_loop_seconds;
   r.acoustic_refresh_seconds = state_->acoustic_refresh_seconds;
   r.step_end_seconds = state_->step_end_seconds;

@@ -27,8 +27,10 @@ std::uint64_t free_device_bytes();       // device_free_bytes() (exec/policy.hpp
 // Throws PolicyUnavailable (with the reason) unless the CUDA backend is built and a GPU is present.
 void require_device();
 
-// cudaStream_t of the stream every unisph launch and copy goes to (created on first use).
+// cudaStream_t of the stream unisph's launches and copies go to: the main stream (created on
+// first use), or the side stream on a thread within a SideStreamScope.
 void* stream_handle();
+void* main_stream_handle();
 
 // The side stream: a second stream, of higher priority, for transfers that overlap the main
 // stream's work (a halo's exchange beside the interior particles' interactions); its kernels
@@ -38,6 +40,19 @@ void* stream_handle();
 void* side_stream_handle();
 void side_stream_wait_main(std::string_view what);
 void main_wait_side_stream(std::string_view what);
+// While one lives, this thread's launches and copies go to the side stream (work that runs beside
+// the main stream's: a halo's unpacking and the border particles' pass after its exchange).
+class SideStreamScope {
+ public:
+  SideStreamScope();
+  ~SideStreamScope();
+  SideStreamScope(const SideStreamScope&) = delete;
+  SideStreamScope& operator=(const SideStreamScope&) = delete;
+
+ private:
+  bool previous_;
+};
+bool on_side_stream();
 
 // Timing marks on the main stream (CUDA events, which do not stop the host): mark_time() returns
 // a mark's number; seconds_between(a, b) waits for mark b and gives the device time from a to b.
