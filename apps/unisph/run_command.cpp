@@ -376,6 +376,7 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
   const std::vector<double> rank_loop_refresh =
       world.allgather(after.acoustic_refresh_seconds - before.acoustic_refresh_seconds);
   const std::vector<double> rank_step_end = world.allgather(after.step_end_seconds - before.step_end_seconds);
+  const std::vector<double> rank_speed_wait = world.allgather(after.speed_wait_seconds - before.speed_wait_seconds);
   const std::vector<double> rank_migrate = world.allgather(after.migrate_seconds - before.migrate_seconds);
   const std::vector<double> rank_gather = world.allgather(after.gather_seconds - before.gather_seconds);
   const std::vector<double> rank_plan = world.allgather(after.plan_seconds - before.plan_seconds);
@@ -430,7 +431,8 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
                         : std::string())
           << "; "
           << "time loop: acoustic steps " << rank_acoustic[std::size_t(r)] << " s (ghost refreshes in them "
-          << rank_loop_refresh[std::size_t(r)] << " s), advection-step ends " << rank_step_end[std::size_t(r)]
+          << rank_loop_refresh[std::size_t(r)] << " s; waiting for the other ranks in the largest speed's reductions "
+          << rank_speed_wait[std::size_t(r)] << " s), advection-step ends " << rank_step_end[std::size_t(r)]
           << " s (migration " << rank_migrate[std::size_t(r)] << " s, halo " << rank_gather[std::size_t(r)]
           << " s, plans " << rank_plan[std::size_t(r)] << " s); all ghost refreshes " << rank_refresh[std::size_t(r)]
           << " s; exchanging and plans "

@@ -20,7 +20,8 @@
 # the time loop and its snapshots, fluid-particle acoustic steps per second without them, and
 # the slowest rank's time in acoustic steps (ghost refreshes among them), in the ends of advection
 # steps, and exchanging with plans per acoustic step (run.log's rank lines, time loop only; one
-# GPU: its acoustic steps and step ends).
+# GPU: its acoustic steps and step ends), and the least and most a rank waited for the others in
+# the largest speed's reductions.
 set -euo pipefail
 OUT=${1:?usage: BUNDLE=dir device_scaling.sh OUT [GPUS...]}
 shift
@@ -34,7 +35,7 @@ HERE=$(cd "$(dirname "$0")/../.." && pwd)
 W=$(mktemp -d)
 mkdir -p "$OUT"
 export NCCL_NVLS_ENABLE=0
-echo "gpus,mode,transport,fluid,acoustic_steps,loop_s,snapshot_s,steps_per_s,acoustic_s_max,refresh_s_max,step_end_s_max,exchange_plan_ms_per_step_max" > "$OUT/scaling.csv"
+echo "gpus,mode,transport,fluid,acoustic_steps,loop_s,snapshot_s,steps_per_s,acoustic_s_max,refresh_s_max,step_end_s_max,exchange_plan_ms_per_step_max,speed_wait_s_min,speed_wait_s_max" > "$OUT/scaling.csv"
 
 run() {  # name gpus transport case
   local name=$1 n=$2 transport=$3 case=$4
@@ -56,9 +57,10 @@ run() {  # name gpus transport case
     /^time loop: acoustic steps/{ am = field($0, "acoustic steps "); em = field($0, "advection-step ends ") }
     /^rank [0-9]+:/{ a = field($0, "acoustic steps "); e = field($0, "advection-step ends ");
         x = field($0, "exchanging and plans "); r = field($0, "ghost refreshes in them ");
+        v = field($0, "reductions "); if (vn == "" || v < vn) vn = v; if (v > vx) vx = v;
         if (a > am) am = a; if (e > em) em = e; if (x > xm) xm = x; if (r > rm) rm = r }
-    END{ printf "%-13s %d GPU %-11s fluid %9d acoustic %4d loop %6.2f s (snapshots %5.2f s) %.3e steps/s | slowest rank: acoustic %.3f s (refreshes %.3f s), step ends %.3f s, exchange+plans %.2f ms/step\n", name, n, t, f, s, l, w, rate, am, rm, em, xm
-         printf "%d,%s,%s,%d,%d,%.3f,%.3f,%.4e,%.3f,%.3f,%.3f,%.3f\n", n, (name ~ /^weak/ ? "weak" : name ~ /^share/ ? "share" : "strong") (name ~ /_whole$/ ? "_whole" : ""), t, f, s, l, w, rate, am, rm, em, xm >> OUT_CSV }' \
+    END{ printf "%-13s %d GPU %-11s fluid %9d acoustic %4d loop %6.2f s (snapshots %5.2f s) %.3e steps/s | slowest rank: acoustic %.3f s (refreshes %.3f s), step ends %.3f s, exchange+plans %.2f ms/step, waiting in speed reductions %.3f to %.3f s\n", name, n, t, f, s, l, w, rate, am, rm, em, xm, vn, vx
+         printf "%d,%s,%s,%d,%d,%.3f,%.3f,%.4e,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f\n", n, (name ~ /^weak/ ? "weak" : name ~ /^share/ ? "share" : "strong") (name ~ /_whole$/ ? "_whole" : ""), t, f, s, l, w, rate, am, rm, em, xm, vn, vx >> OUT_CSV }' \
     OUT_CSV="$OUT/scaling.csv" "$dir/run.log"
 }
 

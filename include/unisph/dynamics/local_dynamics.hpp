@@ -52,6 +52,14 @@ struct ItemsLaunch {
   View<const std::uint32_t> items;
   UNISPH_HOST_DEVICE void operator()(Index k) const { launch(Index(items[k])); }
 };
+// A kernel's static case with the walk by runs (see InteractionDynamics::exec_items).
+template <class Kernel>
+struct StaticCaseLaunch {
+  static constexpr int min_blocks_per_multiprocessor = unisph::min_blocks_per_multiprocessor<Kernel>();
+  Kernel kernel;
+  Real dt;
+  UNISPH_HOST_DEVICE void operator()(Index i) const { kernel.template interact<true, true>(i, dt); }
+};
 template <class Kernel>
 struct ReduceLaunch {
   static constexpr int min_blocks_per_multiprocessor = unisph::min_blocks_per_multiprocessor<Kernel>();
@@ -93,12 +101,21 @@ class InteractionDynamics : public KernelShell<Method> {
   }
   // The same for the items listed (each below size()), with the values exec() gives them: the
   // interactions of a subset, e.g. the interior particles while a halo's refresh is in flight.
+  // Such subsets are a run on several ranks, whose lists are walked by runs: a kernel may compile
+  // that case apart with `bool static_case() const` and `interact<true, true>(i, dt)` (static
+  // walls, the walk by runs), instead of its one-rank common case.
   template <ExecutionPolicy P>
   void exec_items(P policy, View<const std::uint32_t> items, Real dt = Real(0)) {
     using Kernel = typename Method::Kernel;
     if (items.size() == 0) return;
     const Kernel& k = this->kernel(policy);
-    if constexpr (requires { k.common_case(); }) {
+    if constexpr (requires { k.static_case(); }) {
+      if (k.static_case()) {
+        particle_for(policy, items.size(),
+                     detail::ItemsLaunch<detail::StaticCaseLaunch<Kernel>>{{k, dt}, items});
+        return;
+      }
+    } else if constexpr (requires { k.common_case(); }) {
       if (k.common_case()) {
         particle_for(policy, items.size(),
                      detail::ItemsLaunch<detail::CommonCaseLaunch<Kernel>>{{k, dt}, items});

@@ -130,6 +130,7 @@ class WeaklyCompressibleSolver {
     double acoustic_loop_seconds = 0;  // advance()'s acoustic steps, ghost refreshes included
     double acoustic_refresh_seconds = 0;  // of which: the ghost refreshes within them
     double step_end_seconds = 0;       // the ends of its advection steps: migration, sort, halo, lists
+    double speed_wait_seconds = 0;     // in the reductions of the largest speed: waiting for the other ranks
   };
   RankTimings rank_timings() const;
   // Several ranks: how the domain is cut (morton or bisection: UNISPH_DECOMPOSITION) and how well

@@ -538,9 +538,14 @@ struct WeaklyCompressibleSolver<T, D>::State {
 
   // The largest of the ranks' values (one rank: x). A non-finite value on any rank gives +inf
   // on all, so that every rank takes the same branch.
-  double global_max(double x) const {
+  // The host's time in it (the device is done: x came from it) is this rank's wait for the
+  // slowest rank plus the reduction's latency (speed_wait_seconds).
+  double global_max(double x) {
     if (!share) return x;
-    return share->comm().allreduce_max(std::isfinite(x) ? x : std::numeric_limits<double>::infinity());
+    const auto start = std::chrono::steady_clock::now();
+    const double m = share->comm().allreduce_max(std::isfinite(x) ? x : std::numeric_limits<double>::infinity());
+    speed_wait_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return m;
   }
   std::uint64_t global_sum(std::uint64_t x) const { return share ? share->comm().allreduce_sum(x) : x; }
   double global_sum(double x) const { return share ? share->comm().allreduce_sum(x) : x; }
@@ -1676,6 +1681,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
   double acoustic_loop_seconds = 0;
   double acoustic_refresh_seconds = 0;  // the ghost refreshes within the acoustic steps
   double step_end_seconds = 0;
+  double speed_wait_seconds = 0;  // several ranks: in the largest speed's reductions (global_max)
   double fluid_ghost_sum = 0;  // fluid ghosts after each advection step's halo, summed
   std::uint64_t fluid_ghost_samples = 0;
   // What the ghosts' refreshes send: before each relaxation, and after the density summation.
@@ -1735,6 +1741,7 @@ typename WeaklyCompressibleSolver<T, D>::RankTimings WeaklyCompressibleSolver<T,
   r.acoustic_loop_seconds = state_->acoustic_loop_seconds;
   r.acoustic_refresh_seconds = state_->acoustic_refresh_seconds;
   r.step_end_seconds = state_->step_end_seconds;
+  r.speed_wait_seconds = state_->speed_wait_seconds;
   return r;
 }
 template <class T, int D>

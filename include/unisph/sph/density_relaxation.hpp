@@ -65,9 +65,12 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
     bool common_case() const {
       return !moving_walls && inner.targets.run_end.empty() && contact.targets.run_end.empty() && !diffusion.on();
     }
+    // The same with lists maybe walked by runs (several ranks): compiled apart for exec_items.
+    bool static_case() const { return !moving_walls && !diffusion.on(); }
     UNISPH_HOST_DEVICE void interaction(Index i, Real dt) const { interact<false>(i, dt); }
 
-    template <bool Common>
+    // Common: static walls and no diffusion term; Runs: the walk of id-ordered lists by runs.
+    template <bool Common, bool Runs = !Common>
     UNISPH_HOST_DEVICE void interact(Index i, Real) const {
       const VelocityPressure<T, D> own = velocity_pressure[i];
       const Vec<T, D> v_i = own.velocity;
@@ -75,7 +78,7 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
       T rate = T(0), diffused = T(0);
       const PairKernelDerivative<T, D> derivative{kernel};  // dW/dr, cached in stored lists
       const bool diffuse = !Common && diffusion.on();
-      for_each_neighbor_record<!Common>(inner, position_volume, i, derivative,
+      for_each_neighbor_record<Runs>(inner, position_volume, i, derivative,
                                [&](Index j, const PositionVolume<T, D>& r_j, const NeighborPair<T, D>& pair, T dW) {
                                  VelocityPressureRead<T, D> s_j = velocity_pressure[j];
                                  const Vec<T, D>& e = pair.direction();
@@ -87,7 +90,7 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
       const T rho_i = density[i];
       if (contact.uses_stored_lists() || !wall_free.contains(position_volume[i].position)) {
         const Vec<T, D> a0 = prior_acceleration[i];
-        contact.template for_each_weighted_neighbor<!Common>(i, derivative, [&](Index w, const NeighborPair<T, D>& pair, T dW) {
+        contact.template for_each_weighted_neighbor<Runs>(i, derivative, [&](Index w, const NeighborPair<T, D>& pair, T dW) {
           const Vec<T, D>& e = pair.direction();
           const Vec<T, D> n = wall_normal[w];
           Vec<T, D> v_rel = v_i, a_rel = a0;  // relative to the wall (moving_walls.hpp)

@@ -121,9 +121,13 @@ class PressureRelaxation : public InteractionDynamics<PressureRelaxation<T, D>> 
     bool common_case() const {
       return !moving_walls && inner.targets.run_end.empty() && contact.targets.run_end.empty();
     }
+    // Static walls, lists maybe walked by runs (several ranks): compiled apart for exec_items.
+    bool static_case() const { return !moving_walls; }
     UNISPH_HOST_DEVICE void interaction(Index i, Real dt) const { interact<false>(i, dt); }
 
-    template <bool Common>
+    // Common: static walls (the moving walls' terms left out); Runs: the walk of id-ordered lists
+    // by runs compiled in.
+    template <bool Common, bool Runs = !Common>
     UNISPH_HOST_DEVICE void interact(Index i, Real) const {
       const VelocityPressure<T, D> own = velocity_pressure[i];
       const Vec<T, D> v_i = own.velocity;
@@ -131,7 +135,7 @@ class PressureRelaxation : public InteractionDynamics<PressureRelaxation<T, D>> 
       const T rho_i = density[i];
       Vec<T, D> force{};  // sum of 2 p* dW V_j e_ij
       const PairKernelDerivative<T, D> derivative{kernel};  // dW/dr, cached in stored lists
-      for_each_neighbor_record<!Common>(inner, position_volume, i, derivative,
+      for_each_neighbor_record<Runs>(inner, position_volume, i, derivative,
                                [&](Index j, const PositionVolume<T, D>& r_j, const NeighborPair<T, D>& pair, T dW) {
                                  VelocityPressureRead<T, D> s_j = velocity_pressure[j];
                                  const Vec<T, D>& e = pair.direction();
@@ -139,18 +143,18 @@ class PressureRelaxation : public InteractionDynamics<PressureRelaxation<T, D>> 
                                  const T weight = dW * r_j.volume;
                                  force += e * (riemann.twice_interface_pressure(p_i, s_j.pressure, jump) * weight);
                                });
-      add_wall_terms<Common>(i, p_i, rho_i, v_i, force);
+      add_wall_terms<Common, Runs>(i, p_i, rho_i, v_i, force);
       acceleration[i] = force * (-T(1) / rho_i);
     }
     // Adds the wall dummy particles' terms of fluid particle i to `sum` (none inside the
     // wall-free box of a direct search); CorrectedPressureRelaxation takes them apart to apply B_i.
-    // Common: the kernel's common case (common_case()), static walls and no walk by runs.
-    template <bool Common = false>
+    // Common: static walls; Runs: the walk by runs (see interact).
+    template <bool Common = false, bool Runs = !Common>
     UNISPH_HOST_DEVICE void add_wall_terms(Index i, T p_i, T rho_i, const Vec<T, D>& v_i, Vec<T, D>& sum) const {
       if (!contact.uses_stored_lists() && wall_free.contains(position_volume[i].position)) return;
       const PairKernelDerivative<T, D> derivative{kernel};
       const Vec<T, D> a0 = prior_acceleration[i];
-      contact.template for_each_weighted_neighbor<!Common>(i, derivative, [&](Index w, const NeighborPair<T, D>& pair, T dW) {
+      contact.template for_each_weighted_neighbor<Runs>(i, derivative, [&](Index w, const NeighborPair<T, D>& pair, T dW) {
         // One call on both paths, so that the general kernel does the common case's arithmetic
         // (v - 0 and a - 0 are exact). With a call in each branch, one rank (the common kernel)
         // and two (the general one) differed in the last bits on an H100 (stored lists, double),
@@ -303,7 +307,7 @@ class CorrectedPressureRelaxation : public InteractionDynamics<CorrectedPressure
     // is the one InteractionDynamics::exec compiles for it.
     UNISPH_HOST_DEVICE void interaction(Index i, Real dt) const { interact<false>(i, dt); }
 
-    template <bool Common>
+    template <bool Common, bool Runs = !Common>
     UNISPH_HOST_DEVICE void interact(Index i, Real) const {
       const VelocityPressure<T, D> own = this->velocity_pressure[i];
       const Vec<T, D> v_i = own.velocity;
@@ -312,7 +316,7 @@ class CorrectedPressureRelaxation : public InteractionDynamics<CorrectedPressure
       const Mat<T, D> b_i = matrices[i];
       Vec<T, D> force{};
       const PairKernelDerivative<T, D> derivative{this->kernel};
-      for_each_neighbor_record<!Common>(this->inner, this->position_volume, i, derivative,
+      for_each_neighbor_record<Runs>(this->inner, this->position_volume, i, derivative,
                                [&](Index j, const PositionVolume<T, D>& r_j, const NeighborPair<T, D>& pair, T dW) {
                                  VelocityPressureRead<T, D> s_j = this->velocity_pressure[j];
                                  const Vec<T, D>& e = pair.direction();
@@ -324,7 +328,7 @@ class CorrectedPressureRelaxation : public InteractionDynamics<CorrectedPressure
                                  force += term * (dW * r_j.volume);
                                });
       Vec<T, D> walls{};
-      this->template add_wall_terms<Common>(i, p_i, rho_i, v_i, walls);
+      this->template add_wall_terms<Common, Runs>(i, p_i, rho_i, v_i, walls);
       force += b_i * walls;
       this->acceleration[i] = force * (-T(1) / rho_i);
     }
