@@ -94,7 +94,8 @@ void synchronize(std::string_view what);
 // algorithms' temporaries lie above them. So the device holds the most that one phase needs at
 // once, not the sum of every phase's buffers. Growing maps more memory behind the same addresses:
 // a block taken stays where it is while the stack grows above it. Stream order keeps a released
-// block's last use ahead of its next one (one stream runs every launch and copy).
+// block's last use ahead of its next one (the main stream runs every launch and copy that uses
+// it; the side stream's work, a halo's unpacking and the border particles' pass, takes none).
 //
 // workspace_take: `bytes` (rounded up to 256) at the top, until released; workspace_mark: the
 // top now; workspace_release(mark): the top back to `mark` (the blocks taken since). Throws
