@@ -377,6 +377,10 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
       world.allgather(after.acoustic_refresh_seconds - before.acoustic_refresh_seconds);
   const std::vector<double> rank_step_end = world.allgather(after.step_end_seconds - before.step_end_seconds);
   const std::vector<double> rank_speed_wait = world.allgather(after.speed_wait_seconds - before.speed_wait_seconds);
+  const std::vector<double> rank_sort = world.allgather(after.sort_seconds - before.sort_seconds);
+  const std::vector<double> rank_rebuild = world.allgather(after.rebuild_seconds - before.rebuild_seconds);
+  const std::vector<double> rank_migration_plan =
+      world.allgather(after.migration_plan_seconds - before.migration_plan_seconds);
   const std::vector<double> rank_migrate = world.allgather(after.migrate_seconds - before.migrate_seconds);
   const std::vector<double> rank_gather = world.allgather(after.gather_seconds - before.gather_seconds);
   const std::vector<double> rank_plan = world.allgather(after.plan_seconds - before.plan_seconds);
@@ -434,13 +438,16 @@ int run_case(const sph::CaseDescription& description, PolicyKind kind, const Run
           << rank_loop_refresh[std::size_t(r)] << " s; waiting for the other ranks in the largest speed's reductions "
           << rank_speed_wait[std::size_t(r)] << " s), advection-step ends " << rank_step_end[std::size_t(r)]
           << " s (migration " << rank_migrate[std::size_t(r)] << " s, halo " << rank_gather[std::size_t(r)]
-          << " s, plans " << rank_plan[std::size_t(r)] << " s); all ghost refreshes " << rank_refresh[std::size_t(r)]
+          << " s, plans " << rank_plan[std::size_t(r)] << " s of which the migrations' "
+          << rank_migration_plan[std::size_t(r)] << " s, sort " << rank_sort[std::size_t(r)]
+          << " s, cell lists and records " << rank_rebuild[std::size_t(r)] << " s); all ghost refreshes " << rank_refresh[std::size_t(r)]
           << " s; exchanging and plans "
           << 1e3 * (rank_plan[std::size_t(r)] + rank_exchange[std::size_t(r)]) /
                  double(std::max<std::uint64_t>(1, solver.acoustic_steps() - first_acoustic_step))
           << " ms per acoustic step";
   } else {
-    log << "\ntime loop: acoustic steps " << rank_acoustic[0] << " s, advection-step ends " << rank_step_end[0] << " s";
+    log << "\ntime loop: acoustic steps " << rank_acoustic[0] << " s, advection-step ends " << rank_step_end[0]
+        << " s (sort " << rank_sort[0] << " s, cell lists and records " << rank_rebuild[0] << " s)";
   }
   for (const sph::WallBodyCount& b : solver.wall_bodies()) log << "\nwall body " << b.name << ": " << b.count << " particles";
   for (std::size_t k = 0; k < description.obstacles.size(); ++k)

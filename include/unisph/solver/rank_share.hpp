@@ -137,6 +137,7 @@ class RankShare {
   // Where a rank's time in the layer went (see the header comment).
   struct Timings {
     double plan_seconds = 0;      // migration and halo plans
+    double migration_plan_seconds = 0;  // of which: the migrations'
     double exchange_seconds = 0;  // migrate, gather and refresh exchanges (packing included)
     double migrate_seconds = 0;   // of which: migrations (with adopt_owned)
     double gather_seconds = 0;    //   halos' first fills (every sortable variable)
@@ -213,6 +214,7 @@ class RankShare {
     set.adopt_owned(policy, owned);
     const auto t2 = now(policy);
     timings_.plan_seconds += seconds(t0, t1);
+    timings_.migration_plan_seconds += seconds(t0, t1);
     timings_.exchange_seconds += seconds(t1, t2);
     timings_.migrate_seconds += seconds(t1, t2);
     ++timings_.exchanges;

@@ -131,6 +131,9 @@ class WeaklyCompressibleSolver {
     double acoustic_refresh_seconds = 0;  // of which: the ghost refreshes within them
     double step_end_seconds = 0;       // the ends of its advection steps: migration, sort, halo, lists
     double speed_wait_seconds = 0;     // in the reductions of the largest speed: waiting for the other ranks
+    double sort_seconds = 0;           // of the step ends: the fluid's sort
+    double rebuild_seconds = 0;        //   the cell lists, neighbour structures and records
+    double migration_plan_seconds = 0; // of plan_seconds: the migrations' plans (the rest: the halos')
   };
   RankTimings rank_timings() const;
   // Several ranks: how the domain is cut (morton or bisection: UNISPH_DECOMPOSITION) and how well

@@ -1166,14 +1166,20 @@ struct WeaklyCompressibleSolver<T, D>::State {
       if (fluid_images) fluid_images->wrap(p);  // before the sort: its cells are the box's
       if (rank_wrap) rank_wrap->wrap(p);        // before the migration: owners by the wrapped position
       if (share) share->migrate(p, fluid_body);  // before the sort: the arrivals are sorted with the rest
+      const auto before_sort = RankShare<T, D>::now(p);
       if (sort_now) fluid_sorter.sort(p);
+      const auto sorted = RankShare<T, D>::now(p);
+      sort_seconds += RankShare<T, D>::seconds(before_sort, sorted);
       if (share) {
         share->gather(p, fluid_body, fluid_halo);
         fluid_ghost_sum += double(fluid_halo->ghost_count());
         ++fluid_ghost_samples;
       }
+      const auto before_rebuild = RankShare<T, D>::now(p);
       rebuild(p);
-      step_end_seconds += RankShare<T, D>::seconds(loop_end, RankShare<T, D>::now(p));
+      const auto rebuilt = RankShare<T, D>::now(p);
+      rebuild_seconds += RankShare<T, D>::seconds(before_rebuild, rebuilt);
+      step_end_seconds += RankShare<T, D>::seconds(loop_end, rebuilt);
     });
   }
 
@@ -1682,6 +1688,8 @@ struct WeaklyCompressibleSolver<T, D>::State {
   double acoustic_refresh_seconds = 0;  // the ghost refreshes within the acoustic steps
   double step_end_seconds = 0;
   double speed_wait_seconds = 0;  // several ranks: in the largest speed's reductions (global_max)
+  double sort_seconds = 0;        // of the step ends: the fluid's sort
+  double rebuild_seconds = 0;     //   the cell lists, neighbour structures and records (rebuild)
   double fluid_ghost_sum = 0;  // fluid ghosts after each advection step's halo, summed
   std::uint64_t fluid_ghost_samples = 0;
   // What the ghosts' refreshes send: before each relaxation, and after the density summation.
@@ -1732,6 +1740,7 @@ typename WeaklyCompressibleSolver<T, D>::RankTimings WeaklyCompressibleSolver<T,
   if (state_->share) {
     const auto& t = state_->share->timings();
     r.plan_seconds = t.plan_seconds;
+    r.migration_plan_seconds = t.migration_plan_seconds;
     r.exchange_seconds = t.exchange_seconds;
     r.migrate_seconds = t.migrate_seconds;
     r.gather_seconds = t.gather_seconds;
@@ -1742,6 +1751,8 @@ typename WeaklyCompressibleSolver<T, D>::RankTimings WeaklyCompressibleSolver<T,
   r.acoustic_refresh_seconds = state_->acoustic_refresh_seconds;
   r.step_end_seconds = state_->step_end_seconds;
   r.speed_wait_seconds = state_->speed_wait_seconds;
+  r.sort_seconds = state_->sort_seconds;
+  r.rebuild_seconds = state_->rebuild_seconds;
   return r;
 }
 template <class T, int D>
