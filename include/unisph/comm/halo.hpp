@@ -171,7 +171,7 @@ class Halo {
   template <ExecutionPolicy P, class PS>
   void build(P policy, const Communicator& comm, const Decomposition<D>& decomposition,
              View<const Vec<PS, D>> positions, Real cutoff) {
-    plan_ = build_plan(policy, comm, decomposition, positions, cutoff);
+    plan_ = build_plan(policy, comm, decomposition, positions, cutoff, &plan_);
   }
 
   const Plan& plan() const { return plan_; }
@@ -280,7 +280,7 @@ class Halo {
 
   template <ExecutionPolicy P, class PS>
   Plan build_plan(P policy, const Communicator& comm, const Decomposition<D>& d, View<const Vec<PS, D>> positions,
-                  Real cutoff) {
+                  Real cutoff, Plan* previous = nullptr) {
     const CellGrid<D>& g = d.grid();
     if (d.ranks() != comm.size())
       throw Error("halo: the decomposition is for " + std::to_string(d.ranks()) + " ranks, the run has " +
@@ -316,11 +316,14 @@ class Halo {
     for (int r = 0; r < p; ++r)
       counts[std::size_t(r)] = starts[std::size_t(r) + 1] - starts[std::size_t(r)];
     const View<Position> shift = PlanScratch::room(policy, shift_, items);
-    return Plan::from_ordered(policy, comm, counts, [&](View<std::uint32_t> index, View<std::int32_t> rank) {
-      particle_for(policy, items,
-                   halo_detail::OrderSendItems<D, S>{targets.key, targets.item, targets.source, targets.shift, index,
-                                                     rank, shift});
-    });
+    return Plan::from_ordered(
+        policy, comm, counts,
+        [&](View<std::uint32_t> index, View<std::int32_t> rank) {
+          particle_for(policy, items,
+                       halo_detail::OrderSendItems<D, S>{targets.key, targets.item, targets.source, targets.shift,
+                                                         index, rank, shift});
+        },
+        previous);
   }
 
   PlanScratch& work() { return shared_ ? *shared_ : own_; }

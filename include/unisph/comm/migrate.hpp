@@ -111,10 +111,11 @@ void wrap_into_box(P policy, const CellGrid<D>& grid, DiscreteVariable<Vec<Real,
 
 // Collective: the plan that sends every owned particle (positions[0, count) in the policy's
 // memory, float or double) whose owner is another rank to its owner, ordered by destination and
-// within one destination by index.
+// within one destination by index. `previous`: the last migration's plan, whose lists this one
+// takes over (Plan::from_ordered).
 template <ExecutionPolicy P, int D, class S>
 Plan migration_plan(P policy, const Communicator& comm, const Decomposition<D>& decomposition,
-                    View<const Vec<S, D>> positions, PlanScratch& scratch) {
+                    View<const Vec<S, D>> positions, PlanScratch& scratch, Plan* previous = nullptr) {
   if (decomposition.ranks() != comm.size())
     throw Error("migration: the decomposition is for " + std::to_string(decomposition.ranks()) + " ranks, the run has " +
                 std::to_string(comm.size()));
@@ -131,9 +132,12 @@ Plan migration_plan(P policy, const Communicator& comm, const Decomposition<D>& 
   const std::vector<std::uint64_t> starts = scratch.bin_starts(policy, View<const std::uint32_t>(keys), Index(p) + 1);
   std::vector<std::uint64_t> counts(std::size_t(p), 0);
   for (int r = 0; r < p; ++r) counts[std::size_t(r)] = starts[std::size_t(r) + 1] - starts[std::size_t(r)];
-  return Plan::from_ordered(policy, comm, counts, [&](View<std::uint32_t> index, View<std::int32_t> rank) {
-    particle_for(policy, index.size(), migrate_detail::CopySendItems{values, keys, index, rank});
-  });
+  return Plan::from_ordered(
+      policy, comm, counts,
+      [&](View<std::uint32_t> index, View<std::int32_t> rank) {
+        particle_for(policy, index.size(), migrate_detail::CopySendItems{values, keys, index, rank});
+      },
+      previous);
 }
 template <ExecutionPolicy P, int D, class S>
 Plan migration_plan(P policy, const Communicator& comm, const Decomposition<D>& decomposition,

@@ -103,11 +103,15 @@ class Plan {
   // Collective. A plan whose send items a kernel lists, already ordered by destination:
   // send_counts[r] items for rank r, in rank order; fill(index, rank) writes the local index
   // and the destination of each in the policy's memory space. Nothing passes through the host
-  // but the counts.
+  // but the counts. `reuse`: a plan no longer needed (it is left empty) whose lists the new one
+  // takes over, keeping their allocations where the sizes fit; without it a plan rebuilt every
+  // step allocates its lists anew each time and frees the old ones (cudaFree waits for the
+  // device).
   template <ExecutionPolicy P, class Fill>
   static Plan from_ordered(P policy, const Communicator& comm, std::span<const std::uint64_t> send_counts,
-                           Fill&& fill) {
+                           Fill&& fill, Plan* reuse = nullptr) {
     Plan plan(comm);
+    if (reuse && reuse->vars_) plan.vars_ = std::move(reuse->vars_);
     plan.set_send_counts(comm, send_counts);
     const Index n = plan.send_offsets_.back();
     plan.vars_->export_index.resize(n);

@@ -22,6 +22,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <utility>
@@ -208,7 +209,8 @@ class RankShare {
     ParticleSet& set = body.particles();
     if (set.ghost_count() != 0) set.set_ghost_count(0);
     const auto t0 = now(policy);
-    const comm::Plan plan = comm::migration_plan(policy, comm_, decomposition_, owned_positions(policy, body), work_);
+    comm::Plan plan = comm::migration_plan(policy, comm_, decomposition_, owned_positions(policy, body), work_,
+                                           last_migration_ ? &*last_migration_ : nullptr);
     const auto t1 = now(policy);
     const Index owned = comm::migrate(policy, *transport_, plan, set.variables(), set.owned_count(), exchange_, work_);
     set.adopt_owned(policy, owned);
@@ -219,6 +221,7 @@ class RankShare {
     timings_.migrate_seconds += seconds(t1, t2);
     ++timings_.exchanges;
     migrated_ += plan.export_count();
+    last_migration_ = std::move(plan);  // its lists serve the next migration's plan
   }
 
   // Collective: builds `halo` from the owned positions (anew, or in its storage where it exists)
@@ -367,6 +370,7 @@ class RankShare {
   comm::Decomposition<D> decomposition_;
   comm::VariableExchange exchange_;
   comm::PlanScratch work_;
+  std::optional<comm::Plan> last_migration_;
   Timings timings_;
   std::vector<std::pair<int, int>> marked_;  // device marks not yet read (settle_timings)
   std::uint64_t decompositions_ = 0;
