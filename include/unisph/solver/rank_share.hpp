@@ -248,9 +248,7 @@ class RankShare {
   void refresh(P policy, Body<T, D>& body, Halo& halo, std::span<const std::string> names) {
     const auto t0 = now(policy);
     halo.refresh(policy, *transport_, body.particles(), body.positions().name(), names);
-    const double t = seconds(t0, now(policy));
-    timings_.exchange_seconds += t;
-    timings_.refresh_seconds += t;
+    add_refresh_time(seconds(t0, now(policy)));
     ++timings_.exchanges;
   }
 
@@ -300,8 +298,7 @@ class RankShare {
     for (const auto& [a, b] : marked_) t += cuda::seconds_between(a, b);
     marked_.clear();
     cuda::clear_time_marks();
-    timings_.exchange_seconds += t;
-    timings_.refresh_seconds += t;
+    add_refresh_time(t);
   }
 
   // Whether the solver overlaps the ghosts' refreshes with the interior particles' work:
@@ -337,7 +334,10 @@ class RankShare {
       marked_.emplace_back(a.event, b.event);
       return;
     }
-    const double t = seconds(a.at, b.at);
+    add_refresh_time(seconds(a.at, b.at));
+  }
+  // A refresh's time counts as exchanging too.
+  void add_refresh_time(double t) {
     timings_.exchange_seconds += t;
     timings_.refresh_seconds += t;
   }
