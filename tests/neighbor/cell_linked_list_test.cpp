@@ -174,6 +174,7 @@ void check_id_order(P policy, Layout layout, OutsideParticles outside) {
 
   CellLinkedList<T, D> cells(x, s.box, s.cutoff, outside);
   cells.order_within_cells_by_id(set);
+  cells.keep_owned_view(set);
   EXPECT_TRUE(cells.orders_within_cells_by_id());
   const SearchGrid<T, D> grid = cells.grid();
   auto bucket_of = [&](const Vec<T, D>& p) {
@@ -192,8 +193,14 @@ void check_id_order(P policy, Layout layout, OutsideParticles outside) {
     std::sort(order.begin(), order.end());
     return order;
   };
-  for (int arrangement = 0; arrangement < 2; ++arrangement) {
-    SCOPED_TRACE(arrangement == 0 ? "shuffled" : "arranged by (bucket, id)");
+  // 2: the owned particles (the first `owned`) sorted by (bucket, id), the ghosts after them
+  // not, as on several ranks: the list is not the identity, the owned view is.
+  for (int arrangement = 0; arrangement < 3; ++arrangement) {
+    SCOPED_TRACE(arrangement == 0 ? "shuffled" : arrangement == 1 ? "arranged by (bucket, id)" : "owned ones arranged");
+    if (arrangement == 2) {
+      std::reverse(positions.begin() + owned, positions.end());
+      std::reverse(ids.begin() + owned, ids.end());
+    }
     if (arrangement == 1) {  // the particles moved into the reference order: the identity
       const auto order = reference();
       std::vector<Vec<T, D>> p2;
@@ -218,6 +225,21 @@ void check_id_order(P policy, Layout layout, OutsideParticles outside) {
     bool identity = true;
     for (Index k = 0; k < n; ++k) identity = identity && expected_particles[k] == k;
     EXPECT_EQ(identity, arrangement == 1);
+    // The owned view: the first `owned` particles' cells in order, where their keys ascend.
+    bool owned_ascend = true;
+    std::vector<std::uint32_t> expected_owned_offsets(cells.cell_count() + 2, 0);
+    for (Index i = 0; i < owned; ++i) {
+      ++expected_owned_offsets[bucket_of(positions[i]) + 1];
+      if (i > 0) {
+        const auto key = [&](Index k) {
+          const std::uint64_t id = ids[k] - first_id;
+          return std::pair(bucket_of(positions[k]), id < std::uint64_t(owned) ? id : std::uint64_t(owned));
+        };
+        owned_ascend = owned_ascend && !(key(i) < key(i - 1));
+      }
+    }
+    std::partial_sum(expected_owned_offsets.begin(), expected_owned_offsets.end(), expected_owned_offsets.begin());
+    if (arrangement != 0) EXPECT_TRUE(owned_ascend);  // shuffled: seldom (one particle: always)
     for (int build = 0; build < 2; ++build) {  // a rebuild starts clean
       cells.store_positions_in_cell_order(build == 1);
       cells.build(policy);
@@ -229,6 +251,15 @@ void check_id_order(P policy, Layout layout, OutsideParticles outside) {
       EXPECT_EQ(r.out_of_box, 1u);
       EXPECT_EQ(r.non_finite, 1u);
       EXPECT_EQ(r.flagged, outside == OutsideParticles::flag ? 2u : 0u);
+      ASSERT_EQ(cells.owned_view_ready(), owned_ascend);
+      if (owned_ascend) {
+        const CellListView<T, D> view = cells.owned_view(seq);
+        EXPECT_TRUE(view.in_cell_order());
+        EXPECT_TRUE(view.run_end.empty());
+        EXPECT_EQ(std::vector<std::uint32_t>(view.offsets.begin(), view.offsets.end()), expected_owned_offsets);
+      } else {
+        EXPECT_THROW(cells.owned_view(seq), Error);
+      }
       if (build == 1 && !identity) {  // the cell-ordered copy follows the list's order
         const CellListView<T, D> view = cells.view(seq);
         Index wrong = 0;

@@ -517,6 +517,11 @@ struct WeaklyCompressibleSolver<T, D>::State {
       share = std::make_unique<RankShare<T, D>>(*comm, domain, kernel.cutoff(), kernel.h, space, rebalance_fraction,
                                                 periodic);
       overlap_refreshes = share->overlap_refreshes();
+      if (overlap_refreshes) {
+        // The interior particles' passes search the owned particles alone (with_current_records).
+        fluid_cells.keep_owned_view(fluid_body.particles());
+        wall_cells.keep_owned_view(wall_body.particles());
+      }
       // Along periodic axes the halo holds the images across the faces, the own rank's among
       // them; the images' object only wraps the fluid into the box (and gave the cells' box).
       rank_wrap = std::move(fluid_images);
@@ -1102,7 +1107,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
         place_walls(p, time + relaxed + 0.5 * dt);  // moving walls at the acoustic step's middle
         with_current_records(
             p, [&] { relax_pressure(p, Real(dt)); },
-            [&](View<const std::uint32_t> items) { relax_pressure(p, Real(dt), items); });
+            [&](View<const std::uint32_t> items, bool interior) { relax_pressure(p, Real(dt), items, interior); });
         sample_loads(p, dt);
         const double speed_before = speed;
         speed = global_max(double(velocity_update_and_max_speed.exec(p, Real(dt))));
@@ -1120,7 +1125,9 @@ struct WeaklyCompressibleSolver<T, D>::State {
         if (damping_zone) damping_zone->exec(p, Real(dt));  // [damping_zone]: wave absorption
         with_current_records(
             p, [&] { density_relaxation.exec(p, Real(dt)); },
-            [&](View<const std::uint32_t> items) { density_relaxation.exec_items(p, items, Real(dt)); });
+            [&](View<const std::uint32_t> items, bool interior) {
+              exec_listed(density_relaxation, p, items, Real(dt), interior);
+            });
         relaxed += dt;
         ++acoustic_steps;
         const bool more = advection_dt - relaxed > 1e-12 * advection_dt;  // a full last step passes Dt
@@ -1445,17 +1452,33 @@ struct WeaklyCompressibleSolver<T, D>::State {
       pressure_relaxation.exec(p, dt);
   }
   template <class P>
-  void relax_pressure(P p, Real dt, View<const std::uint32_t> items) {
+  void relax_pressure(P p, Real dt, View<const std::uint32_t> items, bool interior) {
     if (corrected_pressure_relaxation)
-      corrected_pressure_relaxation->exec_items(p, items, dt);
+      exec_listed(*corrected_pressure_relaxation, p, items, dt, interior);
     else
-      pressure_relaxation.exec_items(p, items, dt);
+      exec_listed(pressure_relaxation, p, items, dt, interior);
   }
-  // A relaxation pass (`all()`, or `some(items)` over listed particles) after the images' and
-  // ghosts' neighbour records are made current. Where the refreshes overlap, the interior
-  // particles' part runs while the ghosts' records travel and the border particles' after
-  // them (on the device beside the interior part: RankShare::refresh_end): each particle's
-  // sums are those of the whole pass (the same bits).
+  // A pass over listed fluid particles. The interior ones (InteriorSplit) have owned neighbours
+  // only: where both cell lists give the owned particles' view in cell order
+  // (CellLinkedList::owned_view), their pass searches that view and runs the kernel's one-rank
+  // common case, the same neighbours in the same order as through the id-ordered lists' runs.
+  template <class Dynamics, class P>
+  void exec_listed(Dynamics& dynamics, P p, View<const std::uint32_t> items, Real dt, bool interior) {
+    if (interior && fluid_cells.owned_view_ready() && wall_cells.owned_view_ready()) {
+      const CellListView<T, D> fluid_view = fluid_cells.owned_view(p), wall_view = wall_cells.owned_view(p);
+      dynamics.exec_items_with(p, items, dt, [&](auto& kernel) {
+        kernel.inner.targets = fluid_view;
+        kernel.contact.targets = wall_view;
+      });
+    } else {
+      dynamics.exec_items(p, items, dt);
+    }
+  }
+  // A relaxation pass (`all()`, or `some(items, interior)` over listed particles) after the
+  // images' and ghosts' neighbour records are made current. Where the refreshes overlap, the
+  // interior particles' part runs while the ghosts' records travel and the border particles'
+  // after them (on the device beside the interior part: RankShare::refresh_end): each
+  // particle's sums are those of the whole pass (the same bits).
   template <class P, class All, class Some>
   void with_current_records(P p, All&& all, Some&& some) {
     if (fluid_images) refresh_image_records(p);
@@ -1465,10 +1488,10 @@ struct WeaklyCompressibleSolver<T, D>::State {
       return;
     }
     share->refresh_begin(p, fluid_body, *fluid_halo, ghost_record_names);
-    some(fluid_split.interior(p));
+    some(fluid_split.interior(p), true);
     share->refresh_end(p, fluid_body, *fluid_halo, [&] {
       shift_ghost_image_records(p);
-      some(fluid_split.border(p));
+      some(fluid_split.border(p), false);
     });
   }
   // fluid.particle_shifting: every fluid particle moved back towards an even arrangement
