@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cstdint>
 #include <cstdlib>
 #include <string>
@@ -187,8 +188,11 @@ std::vector<std::tuple<std::uint64_t, Vec<int, D>>> expected_ghosts(const Scenar
 // Every owned particle listed once, the interior ones ascending then the border ones; no particle
 // of another rank, and no periodic image of any particle, within the cutoff of an interior one
 // (by brute force over the whole set, with the nearest image along periodic axes).
+// reach > 0: the finer split (InteriorSplit::build's reach), checked against a brute force of
+// its own bound (no other rank's particle within the reach of an interior particle) and
+// against the cells' split (every interior particle of the cells is interior here too).
 template <int D>
-void check_interior_split(Scenario<D>& s, const Decomposition<D>& d, InteriorSplit<D>& split) {
+void check_interior_split(Scenario<D>& s, const Decomposition<D>& d, InteriorSplit<D>& split, Real reach = 0) {
   const auto items = split.items(SequencedPolicy{});
   ASSERT_EQ(split.size(), s.owned);
   std::vector<int> seen(s.owned, 0);
@@ -216,15 +220,22 @@ void check_interior_split(Scenario<D>& s, const Decomposition<D>& d, InteriorSpl
         if (s.grid.periodic[a]) gap = std::min(gap, s.grid.period()[a] - gap);
         d2 += gap * gap;
       }
-      reached += d2 < s.cutoff * s.cutoff;
+      const Real bound = reach > 0 ? reach : s.cutoff;
+      reached += d2 < bound * bound;
     }
   }
-  EXPECT_EQ(reached, 0) << "rank " << me << ": a ghost within the cutoff of an interior particle";
+  EXPECT_EQ(reached, 0) << "rank " << me << ": a ghost within the cutoff (or reach) of an interior particle";
   // As many interior particles as the host's table gives (none where every cell touches a
   // periodic face), and border particles wherever there are other ranks.
   Index interior = 0;
   for (Index k = 0; k < s.owned; ++k) interior += d.interior(s.grid.cell_of(xs[k]));
-  EXPECT_EQ(split.interior_count(), interior);
+  if (reach > 0) {
+    EXPECT_GE(split.interior_count(), interior);
+    for (Index k = 0; k < split.border_count(); ++k)
+      EXPECT_FALSE(d.interior(s.grid.cell_of(xs[items[split.interior_count() + k]])));
+  } else {
+    EXPECT_EQ(split.interior_count(), interior);
+  }
   if (s.comm.size() > 1) EXPECT_GT(s.comm.allreduce_sum(std::uint64_t(split.border_count())), 0u);
 }
 
@@ -323,6 +334,16 @@ void halo_and_check(P policy, Scenario<D>& s, DecompositionMethod method) {
   for (Index k = s.owned; k < s.vars.size(); ++k) stale += ms3[k] != 3 * comm_test::mass_of(ids[k]);
   EXPECT_EQ(stale, 0);
   check_interior_split(s, d, split);
+  // The finer split, with the halo's reach (the cutoff here: the cells are as wide).
+  InteriorSplit<D> finer;
+  finer.build(policy, d, View<const Vec<Real, D>>(s.vars.template get<Vec<Real, D>>("Position").read(policy).data(), s.owned),
+              s.cutoff);
+  check_interior_split(s, d, finer, s.cutoff);
+  const std::uint64_t coarse_total = s.comm.allreduce_sum(std::uint64_t(split.interior_count()));
+  const std::uint64_t finer_total = s.comm.allreduce_sum(std::uint64_t(finer.interior_count()));
+  if (s.comm.rank() == 0)
+    std::printf("interior particles of %zu: %llu by the cells, %llu within the reach\n", std::size_t(s.n),
+                static_cast<unsigned long long>(coarse_total), static_cast<unsigned long long>(finer_total));
 }
 
 UNISPH_POLICY_TEST_SUITE(CommHalo);

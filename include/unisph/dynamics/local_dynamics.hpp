@@ -127,20 +127,21 @@ class InteractionDynamics : public KernelShell<Method> {
   // The same for items whose neighbours all lie in other views of the neighbour lists than the
   // kernel's (the interior particles on several ranks see owned particles only, which a
   // cell-ordered view of them lists as on one rank): `retarget(kernel)` points a copy of the
-  // kernel at those views, and its common case runs where it then holds; otherwise exec_items.
+  // kernel at those views, whose common case runs where it then holds, the general kernel
+  // otherwise (the items' passes read those views only).
   template <ExecutionPolicy P, class Retarget>
   void exec_items_with(P policy, View<const std::uint32_t> items, Real dt, Retarget&& retarget) {
     using Kernel = typename Method::Kernel;
     if (items.size() == 0) return;
-    if constexpr (requires(const Kernel& k) { k.common_case(); }) {
-      Kernel k = this->kernel(policy);
-      retarget(k);
+    Kernel k = this->kernel(policy);
+    retarget(k);
+    if constexpr (requires { k.common_case(); }) {
       if (k.common_case()) {
         particle_for(policy, items.size(), detail::ItemsLaunch<detail::CommonCaseLaunch<Kernel>>{{k, dt}, items});
         return;
       }
     }
-    exec_items(policy, items, dt);
+    particle_for(policy, items.size(), detail::ItemsLaunch<detail::InteractionLaunch<Kernel>>{{k, dt}, items});
   }
 };
 

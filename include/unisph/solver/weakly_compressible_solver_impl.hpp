@@ -930,10 +930,15 @@ struct WeaklyCompressibleSolver<T, D>::State {
       // Ghosts (other ranks' particles, periodic images) may lie outside the cells' box by
       // design: only the owned particles are checked for leaving the domain.
       fluid_cells.report_only_first(fluid.size());
-      if (overlap_refreshes)
-        fluid_split.build(p, share->decomposition(), fluid.position.read(p).subview(0, fluid.size()));
     }
     fluid_cells.build(p);
+    if (share && overlap_refreshes) {
+      // Where the interior particles' passes search the owned particles alone (exec_listed),
+      // the interior reaches to cutoff + skin from the other ranks' cells (InteriorSplit).
+      const bool owned_only = fluid_cells.owned_view_ready() && wall_cells.owned_view_ready();
+      fluid_split.build(p, share->decomposition(), fluid.position.read(p).subview(0, fluid.size()),
+                        owned_only ? Real(share->width()) : Real(0));
+    }
     // With stored lists, dW/dr of each pair is cached with its geometry (the relaxations read it).
     inner.update(p, PairKernelDerivative<T, D>{kernel});
     contact.update(p, PairKernelDerivative<T, D>{kernel});
@@ -1063,7 +1068,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
       std::uint64_t steps_here = 0;
       shift_particles(p);
       // The density from the kernel sum, or from the continuity equation alone (docs/sph.md, "Density").
-      if (description.density_method != "continuity") density_summation.exec(p);
+      if (description.density_method != "continuity") sum_density(p);
       if (fluid_images) fluid_images->refresh(p, fluid.density);  // prior acceleration reads rho_j
       if (share) share->refresh(p, fluid_body, *fluid_halo, ghost_density_name);
       update_kernel_correction(p);
@@ -1444,6 +1449,17 @@ struct WeaklyCompressibleSolver<T, D>::State {
     });
   }
   // The momentum equation's pair sums, with the kernel gradient corrected where the case asks.
+  // The density summation; on several ranks with split refreshes, the interior particles' part
+  // through the owned particles' view and the border particles' after it (exec_listed).
+  template <class P>
+  void sum_density(P p) {
+    if (!overlap_refreshes) {
+      density_summation.exec(p);
+      return;
+    }
+    exec_listed(density_summation, p, fluid_split.interior(p), Real(0), true);
+    density_summation.exec_items(p, fluid_split.border(p));
+  }
   template <class P>
   void relax_pressure(P p, Real dt) {
     if (corrected_pressure_relaxation)
@@ -1461,14 +1477,16 @@ struct WeaklyCompressibleSolver<T, D>::State {
   // A pass over listed fluid particles. The interior ones (InteriorSplit) have owned neighbours
   // only: where both cell lists give the owned particles' view in cell order
   // (CellLinkedList::owned_view), their pass searches that view and runs the kernel's one-rank
-  // common case, the same neighbours in the same order as through the id-ordered lists' runs.
+  // common case, the same neighbours in the same order as through the id-ordered lists' runs
+  // (rebuild() then splits with the finer reach, which needs a search that visits no ghost).
   template <class Dynamics, class P>
   void exec_listed(Dynamics& dynamics, P p, View<const std::uint32_t> items, Real dt, bool interior) {
     if (interior && fluid_cells.owned_view_ready() && wall_cells.owned_view_ready()) {
       const CellListView<T, D> fluid_view = fluid_cells.owned_view(p), wall_view = wall_cells.owned_view(p);
       dynamics.exec_items_with(p, items, dt, [&](auto& kernel) {
         kernel.inner.targets = fluid_view;
-        kernel.contact.targets = wall_view;
+        if constexpr (requires { kernel.contact; }) kernel.contact.targets = wall_view;
+        else kernel.wall.targets = wall_view;
       });
     } else {
       dynamics.exec_items(p, items, dt);
