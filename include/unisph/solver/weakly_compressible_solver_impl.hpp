@@ -517,7 +517,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
       share = std::make_unique<RankShare<T, D>>(*comm, domain, kernel.cutoff(), kernel.h, space, rebalance_fraction,
                                                 periodic);
       overlap_refreshes = share->overlap_refreshes();
-      if (overlap_refreshes) {
+      if (overlap_refreshes && RankShare<T, D>::owned_views()) {
         // The interior particles' passes search the owned particles alone (with_current_records).
         fluid_cells.keep_owned_view(fluid_body.particles());
         wall_cells.keep_owned_view(wall_body.particles());
