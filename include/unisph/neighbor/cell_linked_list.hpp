@@ -459,7 +459,7 @@ class CellLinkedList {
     if (builds_ == 0 || n != built_count_) return false;
     changed_.resize(1);
     View<unsigned long long> changed = changed_.write(policy);
-    particle_for(policy, 1, cell_list_detail::ZeroCounts{{}, changed});
+    particle_for(policy, 1, cell_list_detail::ZeroCounts{{}, changed, {}});
     particle_for(policy, n,
                  cell_list_detail::CheckBuckets<T, D>{grid_, outside_ == OutsideParticles::flag,
                                                       static_cast<std::uint32_t>(grid_.cell_count()),
