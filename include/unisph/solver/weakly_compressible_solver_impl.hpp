@@ -1448,7 +1448,6 @@ struct WeaklyCompressibleSolver<T, D>::State {
       fence(p);
     });
   }
-  // The momentum equation's pair sums, with the kernel gradient corrected where the case asks.
   // The density summation; on several ranks with split refreshes, the interior particles' part
   // through the owned particles' view and the border particles' after it (exec_listed).
   template <class P>
@@ -1460,6 +1459,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
     exec_listed(density_summation, p, fluid_split.interior(p), Real(0), true);
     density_summation.exec_items(p, fluid_split.border(p));
   }
+  // The momentum equation's pair sums, with the kernel gradient corrected where the case asks.
   template <class P>
   void relax_pressure(P p, Real dt) {
     if (corrected_pressure_relaxation)
