@@ -1068,7 +1068,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
       std::uint64_t steps_here = 0;
       shift_particles(p);
       // The density from the kernel sum, or from the continuity equation alone (docs/sph.md, "Density").
-      if (description.density_method != "continuity") sum_density(p);
+      if (description.density_method != "continuity") density_summation.exec(p);
       if (fluid_images) fluid_images->refresh(p, fluid.density);  // prior acceleration reads rho_j
       if (share) share->refresh(p, fluid_body, *fluid_halo, ghost_density_name);
       update_kernel_correction(p);
@@ -1448,17 +1448,6 @@ struct WeaklyCompressibleSolver<T, D>::State {
       fence(p);
     });
   }
-  // The density summation; on several ranks with split refreshes, the interior particles' part
-  // through the owned particles' view and the border particles' after it (exec_listed).
-  template <class P>
-  void sum_density(P p) {
-    if (!overlap_refreshes) {
-      density_summation.exec(p);
-      return;
-    }
-    exec_listed(density_summation, p, fluid_split.interior(p), Real(0), true);
-    density_summation.exec_items(p, fluid_split.border(p));
-  }
   // The momentum equation's pair sums, with the kernel gradient corrected where the case asks.
   template <class P>
   void relax_pressure(P p, Real dt) {
@@ -1485,8 +1474,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
       const CellListView<T, D> fluid_view = fluid_cells.owned_view(p), wall_view = wall_cells.owned_view(p);
       dynamics.exec_items_with(p, items, dt, [&](auto& kernel) {
         kernel.inner.targets = fluid_view;
-        if constexpr (requires { kernel.contact; }) kernel.contact.targets = wall_view;
-        else kernel.wall.targets = wall_view;
+        kernel.contact.targets = wall_view;
       });
     } else {
       dynamics.exec_items(p, items, dt);
