@@ -301,31 +301,27 @@ class RankShare {
     add_refresh_time(t);
   }
 
+  // An on/off environment variable: true for 1, false for 0, `fallback` where unset or empty;
+  // any other value stops the run with one line naming the variable.
+  static bool switch_from_environment(const char* name, bool fallback) {
+    const char* v = std::getenv(name);
+    if (!v || !*v) return fallback;
+    if (std::string(v) == "1") return true;
+    if (std::string(v) == "0") return false;
+    throw Error(std::string(name) + "='" + v + "': use 1 or 0");
+  }
+
   // Whether the solver overlaps the ghosts' refreshes with the interior particles' work:
   // UNISPH_HALO_OVERLAP=1 or 0 where set, else where the transport's exchange runs beside the
   // device's work (NCCL); host-staged exchanges finish before they return, so there the split
   // passes would only add launches.
-  bool overlap_refreshes() const {
-    if (const char* v = std::getenv("UNISPH_HALO_OVERLAP"); v && *v) {
-      if (std::string(v) == "1") return true;
-      if (std::string(v) == "0") return false;
-      throw Error("UNISPH_HALO_OVERLAP='" + std::string(v) + "': use 1 or 0");
-    }
-    return transport_->overlaps();
-  }
+  bool overlap_refreshes() const { return switch_from_environment("UNISPH_HALO_OVERLAP", transport_->overlaps()); }
 
   // Whether the interior particles' passes search the owned particles' own cell lists
   // (CellLinkedList::owned_view, where the refreshes overlap): UNISPH_OWNED_VIEWS=1 or 0 where
   // set, else yes. Each keeps 4 bytes per cell of the whole domain for the fluid and the walls
   // (about 9 bytes per particle in a 10^9-particle run on four GPUs), for 6 to 8 % on four GPUs.
-  static bool owned_views() {
-    if (const char* v = std::getenv("UNISPH_OWNED_VIEWS"); v && *v) {
-      if (std::string(v) == "1") return true;
-      if (std::string(v) == "0") return false;
-      throw Error("UNISPH_OWNED_VIEWS='" + std::string(v) + "': use 1 or 0");
-    }
-    return true;
-  }
+  static bool owned_views() { return switch_from_environment("UNISPH_OWNED_VIEWS", true); }
 
   // Particles sent to another rank by migrate() since the start, on this rank.
   std::uint64_t migrated() const { return migrated_; }
