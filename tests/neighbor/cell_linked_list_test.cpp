@@ -138,10 +138,13 @@ TYPED_TEST(CellListBuild, ReportsLeavingAgainstItsOwnBoxWhereGiven) {
 // one with a NaN coordinate. Each bucket must list exactly the brute-force order: ascending
 // (id, index), an id out of range as the set's id count. The list is in cell order exactly when
 // that order is the identity, which it becomes once the particles are arranged by (bucket, id).
+// With `corner`, the owned particles lie in the box's lower 0.2 … 0.6 along each axis (as a
+// rank's share of the domain does): the owned view's table covers only their block of cells.
 template <class T, int D, class P>
-void check_id_order(P policy, Layout layout, OutsideParticles outside) {
+void check_id_order(P policy, Layout layout, OutsideParticles outside, bool corner = false) {
   SCOPED_TRACE(std::string(to_string(layout)) + ", " + std::to_string(D) + "D, " +
-               (sizeof(T) == 4 ? "float" : "double") + (outside == OutsideParticles::flag ? ", flag" : ", clamp"));
+               (sizeof(T) == 4 ? "float" : "double") + (outside == OutsideParticles::flag ? ", flag" : ", clamp") +
+               (corner ? ", owned in a corner" : ""));
   const Scenario<T, D> s = make_scenario<T, D>(layout);
   const Index owned = s.positions.size();
   const std::uint64_t first_id = 1000;
@@ -149,6 +152,11 @@ void check_id_order(P policy, Layout layout, OutsideParticles outside) {
   DiscreteVariable<Vec<T, D>>& x = set.add_variable(position_tag<T, D>, sortable_output_variable);
   std::mt19937_64 rng(11 + owned);
   std::vector<Vec<T, D>> positions = s.positions;
+  if (corner)
+    for (Vec<T, D>& p : positions)
+      for (int a = 0; a < D; ++a)
+        p[a] = s.box.lower[a] + (s.box.upper[a] - s.box.lower[a]) * (T(0.2) + T(0.4) * (p[a] - s.box.lower[a]) /
+                                                                                   (s.box.upper[a] - s.box.lower[a]));
   std::vector<std::uint64_t> ids(owned);
   std::iota(ids.begin(), ids.end(), first_id);
   std::shuffle(ids.begin(), ids.end(), rng);
@@ -225,11 +233,27 @@ void check_id_order(P policy, Layout layout, OutsideParticles outside) {
     bool identity = true;
     for (Index k = 0; k < n; ++k) identity = identity && expected_particles[k] == k;
     EXPECT_EQ(identity, arrangement == 1);
-    // The owned view: the first `owned` particles' cells in order, where their keys ascend.
+    // The owned view: the first `owned` particles' cells in order, where their keys ascend, in
+    // a table over the block of cells that holds them.
+    Vec<int, D> first = grid.cells, last{};
+    for (Index i = 0; i < owned; ++i)
+      for (int a = 0; a < D; ++a) {
+        first[a] = std::min(first[a], grid.place(positions[i]).cell[a]);
+        last[a] = std::max(last[a], grid.place(positions[i]).cell[a]);
+      }
+    if (owned == 0) first = last = Vec<int, D>{};  // no owned particle: one cell
+    const SearchGrid<T, D> block = grid.sub_grid(first, last);
+    if (corner && arrangement == 0 && owned > 1) EXPECT_LT(block.cell_count() * 4, grid.cell_count()) << "the block is not a corner's";  // (later arrangements mix the ghosts in)
+    auto block_bucket_of = [&](const Vec<T, D>& p) {
+      const CellPlacement<D> c = block.place(p);
+      return outside == OutsideParticles::flag && c.status != placement_inside ? block.cell_count()
+                                                                                : Index(block.linear_index(c.cell));
+    };
     bool owned_ascend = true;
-    std::vector<std::uint32_t> expected_owned_offsets(cells.cell_count() + 2, 0);
+    std::vector<std::uint32_t> expected_owned_offsets(block.cell_count() + 2, 0);
     for (Index i = 0; i < owned; ++i) {
-      ++expected_owned_offsets[bucket_of(positions[i]) + 1];
+      ++expected_owned_offsets[block_bucket_of(positions[i]) + 1];
+      EXPECT_EQ(block.place(positions[i]).cell + first, grid.place(positions[i]).cell) << "particle " << i;
       if (i > 0) {
         const auto key = [&](Index k) {
           const std::uint64_t id = ids[k] - first_id;
@@ -257,6 +281,8 @@ void check_id_order(P policy, Layout layout, OutsideParticles outside) {
         EXPECT_TRUE(view.in_cell_order());
         EXPECT_TRUE(view.run_end.empty());
         EXPECT_EQ(std::vector<std::uint32_t>(view.offsets.begin(), view.offsets.end()), expected_owned_offsets);
+        EXPECT_EQ(view.grid.cells, block.cells);
+        EXPECT_EQ(view.grid.first_cell, block.first_cell);
       } else {
         EXPECT_THROW(cells.owned_view(seq), Error);
       }
@@ -281,6 +307,8 @@ TYPED_TEST(CellListBuild, OrderedByIdListsEachCellInAscendingId) {
       check_id_order<float, 3>(this->policy, layout, outside);
       check_id_order<double, 3>(this->policy, layout, outside);
     }
+  check_id_order<float, 3>(this->policy, all_layouts[0], OutsideParticles::clamp, true);
+  check_id_order<double, 2>(this->policy, all_layouts[0], OutsideParticles::flag, true);
 }
 
 TYPED_TEST(CellListBuild, OrderedByIdRefusesAnotherSetsIds) {
@@ -364,6 +392,51 @@ TEST(HostSearchGrid, GeometryAndErrors) {
   EXPECT_THROW(G::make(unit, 1e-7), Error);  // 10^7 cells per axis > 2^21
   EXPECT_NO_THROW(G::make({Vec<double, 2>{}, Vec<double, 2>{{1.0, 1e-6}}}, 1.0 / 2000000));  // 2000001 cells
   EXPECT_THROW((SearchGrid<double, 3>::make({Vec<double, 3>{}, Vec<double, 3>::constant(1.0)}, 5e-4)), Error);  // 2001^3 > 2^32 cells
+}
+
+// A block of a grid's cells places every position in the whole grid's cell less the block's
+// first (outside the block too: a walk from there visits the whole grid's cells that lie in the
+// block), with the cell coordinate less that integer exactly.
+TEST(HostSearchGrid, SubGridPlacesAsTheWholeGrid) {
+  using G = SearchGrid<float, 3>;
+  const G g = G::make({Vec<float, 3>{{-1.3f, 0.0f, 2.0f}}, Vec<float, 3>{{7.1f, 0.4f, 9.0f}}}, 0.013f, 0.0065f);
+  const Vec<int, 3> first{{100, 3, 400}}, last{{900, 50, 700}};
+  const G b = g.sub_grid(first, last);
+  EXPECT_EQ(b.cells, (Vec<int, 3>{{801, 48, 301}}));
+  EXPECT_EQ(b.first_cell, first);
+  EXPECT_EQ(b.sub_grid(Vec<int, 3>{{1, 0, 0}}, Vec<int, 3>{{1, 0, 0}}).first_cell, (Vec<int, 3>{{101, 3, 400}}));
+  std::mt19937_64 rng(5);
+  Index inside = 0;
+  for (int k = 0; k < 200000; ++k) {
+    Vec<float, 3> x;
+    for (int a = 0; a < 3; ++a)
+      x[a] = std::uniform_real_distribution<float>(g.box.lower[a], g.box.upper[a])(rng);
+    const Vec<int, 3> whole = g.place(x).cell;
+    bool in = true;
+    for (int a = 0; a < 3; ++a) in = in && first[a] <= whole[a] && whole[a] <= last[a];
+    const Vec<int, 3> c = b.place(x).cell;
+    for (int a = 0; a < 3; ++a) {
+      ASSERT_EQ(b.cell_coordinate(x, a), g.cell_coordinate(x, a) - float(first[a])) << k;
+      ASSERT_EQ(c[a] + first[a], whole[a]) << k;
+    }
+    inside += in;
+  }
+  EXPECT_GT(inside, 1000u);
+  // Cell faces: the whole grid's placement at a face is the block's.
+  for (int i = first[0]; i <= last[0]; i += 37) {
+    Vec<float, 3> x{{g.box.lower[0] + float(i) * g.cell_size, 0.2f, 5.0f}};
+    ASSERT_EQ(b.place(x).cell[0] + first[0], g.place(x).cell[0]) << i;
+  }
+  // Beyond the whole grid: clamped into it, as the whole grid places it.
+  const Vec<float, 3> far{{100.0f, -5.0f, 5.0f}};
+  EXPECT_EQ(b.place(far).cell + first, g.place(far).cell);
+  EXPECT_EQ(b.place(far).status, placement_out_of_box);
+  EXPECT_THROW(g.sub_grid(Vec<int, 3>{{0, 0, 0}}, Vec<int, 3>{{g.cells[0], 0, 0}}), Error);
+  EXPECT_THROW(g.sub_grid(Vec<int, 3>{{5, 0, 0}}, Vec<int, 3>{{4, 0, 0}}), Error);
+  // Periodic axes stay whole.
+  const G p = G::make_periodic(g.box, 0.013f, {true, false, false}, 0.0065f);
+  EXPECT_EQ(p.sub_grid(first, last).cells[0], p.cells[0]);
+  EXPECT_EQ(p.sub_grid(first, last).first_cell[0], 0);
 }
 
 }  // namespace

@@ -35,7 +35,11 @@
 // comm/interior_split.hpp) then walks each row of cells as one contiguous range, as on one
 // rank, instead of the id-ordered list's runs with their two index loads per row (measured on
 // four H200s: the relaxations 17 to 23 % slower per rank than one GPU on as many particles).
-// It costs a second count per owned particle, a scan and 4 bytes per cell.
+// Its table covers only the block of cells that holds the owned particles (SearchGrid::sub_grid,
+// found by a reduction at each build; periodic axes whole): about the rank's share of the domain,
+// where a table over every cell would add 4 bytes per cell of the whole domain to every rank
+// (about 9 bytes per particle in the 10^9-particle run on four GPUs). It costs a second count per
+// owned particle, the reduction (one wait for its result) and a scan per build.
 //
 // On request (store_positions_in_cell_order) the build also writes a copy of the positions in
 // the list's order, padded to 16 bytes in 3D float (CellPoint), for particles that are not in
@@ -170,8 +174,9 @@ struct CountParticles {
   // else out of the grid's.
   Box<T, D> report_box;
   bool report_box_set;
-  View<std::uint32_t> owned_counts;  // the owned view's: particles [0, owned) counted again
-  Index owned;
+  View<std::uint32_t> owned_counts;  // the owned view's: particles [0, owned) counted again,
+  Index owned;                       // in the cells of owned_grid (their block of grid's)
+  SearchGrid<T, D> owned_grid;
 
   UNISPH_HOST_DEVICE void operator()(Index i) const {
     const Vec<T, D> x = positions[i];
@@ -186,7 +191,9 @@ struct CountParticles {
     bucket_of[i] = bucket;
     const std::uint32_t slot = atomic_increment_shared(&counts[bucket]);
     if (!slot_of.empty()) slot_of[i] = slot;
-    if (i < owned) atomic_increment_shared(&owned_counts[bucket]);
+    if (i < owned)
+      atomic_increment_shared(&owned_counts[bucket_of_placement(owned_grid, owned_grid.place(x), flag_outside,
+                                                                static_cast<std::uint32_t>(owned_grid.cell_count()))]);
   }
 };
 
@@ -209,6 +216,37 @@ UNISPH_HOST_DEVICE inline void raise_flag_if(bool condition, unsigned long long*
   if (condition) std::atomic_ref<unsigned long long>(*flag).store(1, std::memory_order_relaxed);
 #endif
 }
+
+// The block of cells from `first` to `last` (inclusive): the owned view's (CellLinkedList),
+// joined over the owned particles' cells by a reduction.
+template <int D>
+struct CellRange {
+  Vec<int, D> first;
+  Vec<int, D> last;
+  static CellRange empty() {
+    return {Vec<int, D>::constant(std::numeric_limits<int>::max()), Vec<int, D>::constant(std::numeric_limits<int>::min())};
+  }
+};
+template <int D>
+struct JoinCellRanges {
+  UNISPH_HOST_DEVICE CellRange<D> operator()(const CellRange<D>& a, const CellRange<D>& b) const {
+    CellRange<D> r;
+    for (int k = 0; k < D; ++k) {
+      r.first[k] = b.first[k] < a.first[k] ? b.first[k] : a.first[k];
+      r.last[k] = b.last[k] > a.last[k] ? b.last[k] : a.last[k];
+    }
+    return r;
+  }
+};
+template <class T, int D>
+struct CellOfParticle {
+  SearchGrid<T, D> grid;
+  View<const Vec<T, D>> positions;
+  UNISPH_HOST_DEVICE CellRange<D> operator()(Index i) const {
+    const Vec<int, D> c = grid.place(positions[i]).cell;
+    return {c, c};
+  }
+};
 
 // Sets counters[3] when some particle's bucket is below its predecessor's.
 struct CheckCellOrder {
@@ -405,10 +443,11 @@ class CellLinkedList {
     const bool owned_view = by_id && owned_set_ != nullptr;
     const Index owned = owned_view ? std::min(owned_set_->owned_count(), n) : 0;
     owned_ready_ = false;
+    if (owned_view) owned_grid_ = owned_block(policy, owned);
     particles_.resize(n);
     bucket_of_.resize(n);
     slot_of_.resize(by_id ? 0 : n);
-    owned_offsets_.resize(owned_view ? offsets_.size() : 0);
+    owned_offsets_.resize(owned_view ? owned_grid_.cell_count() + 2 : 0);
     // Ordered by id: the sort keys and the runs' helper arrays live only within the build.
     WorkspaceScope scope(policy);
     const Index buckets = grid_.cell_count() + 1;
@@ -423,7 +462,7 @@ class CellLinkedList {
                                                         positions_.read(policy), bucket_of_.write(policy),
                                                         by_id ? View<std::uint32_t>{} : slot_of_.write(policy),
                                                         offsets, counters, reported_, report_box_, report_box_set_,
-                                                        owned_offsets, owned});
+                                                        owned_offsets, owned, owned_grid_});
     if (by_id) {
       if (sort_by_id(policy, scope, n, owned, counters)) find_runs(policy, scope, n);
       else run_end_.resize(0);
@@ -432,7 +471,8 @@ class CellLinkedList {
     }
     exclusive_scan(policy, View<const std::uint32_t>(offsets.subview(0, buckets)), offsets);
     if (owned_ready_)
-      exclusive_scan(policy, View<const std::uint32_t>(owned_offsets.subview(0, buckets)), owned_offsets);
+      exclusive_scan(policy, View<const std::uint32_t>(owned_offsets.subview(0, owned_grid_.cell_count() + 1)),
+                     owned_offsets);
     if (!by_id)
       particle_for(policy, n,
                    cell_list_detail::FillCells{bucket_of_.read(policy), slot_of_.read(policy), offsets,
@@ -508,7 +548,7 @@ class CellLinkedList {
   template <ExecutionPolicy P>
   CellListView<T, D> owned_view(P) {
     if (!owned_ready_) throw Error("CellLinkedList over " + positions_.describe() + ": no owned view was built");
-    return {grid_, outside_ == OutsideParticles::flag, positions_.read(P::space), owned_offsets_.read(P::space),
+    return {owned_grid_, outside_ == OutsideParticles::flag, positions_.read(P::space), owned_offsets_.read(P::space),
             particles_.read(P::space), counters_.read(P::space).subview(1, 4), View<const CellPoint<T, D>>{},
             View<const std::uint32_t>{}};
   }
@@ -521,6 +561,16 @@ class CellLinkedList {
   }
 
  private:
+  // The block of cells that holds the first `owned` particles (the owned view's grid).
+  template <ExecutionPolicy P>
+  SearchGrid<T, D> owned_block(P policy, Index owned) const {
+    if (owned == 0) return grid_.sub_grid(Vec<int, D>{}, Vec<int, D>{});
+    const cell_list_detail::CellRange<D> r =
+        particle_reduce(policy, owned, cell_list_detail::CellRange<D>::empty(), cell_list_detail::JoinCellRanges<D>{},
+                        cell_list_detail::CellOfParticle<T, D>{grid_, positions_.read(policy)});
+    return grid_.sub_grid(r.first, r.last);
+  }
+
   // Ordered by id: run_end for every place (see CellListView::run_end), where the sort was not
   // the identity (sort_by_id). Three passes and a scan of the places.
   template <ExecutionPolicy P>
@@ -585,6 +635,7 @@ class CellLinkedList {
   ParticleSet* id_set_ = nullptr;         // ordered by the ids of this set; null: by the atomics
   const ParticleSet* owned_set_ = nullptr;  // keep_owned_view
   DiscreteVariable<std::uint32_t> owned_offsets_{"CellList.OwnedOffsets"};
+  SearchGrid<T, D> owned_grid_{};  // the owned view's: the block of grid_'s cells holding them
   bool owned_ready_ = false;
   bool store_points_ = false;
   Index built_count_ = 0;

@@ -17,6 +17,15 @@
 // L / floor(L / cell_size), no partial cell), so that cell cells[a] is cell 0 one period on.
 // Other axes, and every axis of make(), keep the cubic cells: place() then computes exactly what
 // it computed before the option existed (axis_inverse_cell_size[a] == inverse_cell_size).
+//
+// sub_grid() is a block of another grid's cells: the same box, cell size and placement
+// arithmetic, its cell 0 at the whole grid's first_cell. place() clamps into the whole grid and
+// gives the cell in the block's coordinates, which lie outside the block for positions outside
+// it (the stencil walks clamp their ranges into the block), and cell_coordinate() is the whole
+// grid's less an integer, which is exact. So a cell list over the block (CellLinkedList's owned
+// view on several ranks) lists the particles within it as the whole grid's list does, and a walk
+// visits the whole grid's cells that lie in the block: the same candidates in the same order,
+// from a table the block's size.
 
 #include <array>
 #include <cstdint>
@@ -71,6 +80,10 @@ struct SearchGrid {
   Vec<T, D> axis_inverse_cell_size;
   // Bit a: make_periodic() divided axis a exactly (0 for a grid of make()).
   unsigned periodic_axes;
+  // The whole grid's coordinates of this grid's cell 0 and its cells per axis (sub_grid(); 0 and
+  // `cells` for make()).
+  Vec<int, D> first_cell;
+  Vec<int, D> whole_cells;
 
   // The grid covering `box` with cells of `cell_size` (0: the cutoff). Throws unisph::Error
   // for an empty or non-finite box, a cutoff that is not positive, a cell size below
@@ -116,6 +129,23 @@ struct SearchGrid {
     g.axis_cell_size = Vec<T, D>::constant(g.cell_size);
     g.axis_inverse_cell_size = Vec<T, D>::constant(g.inverse_cell_size);
     g.periodic_axes = 0u;
+    g.first_cell = Vec<int, D>{};
+    g.whole_cells = g.cells;
+    return g;
+  }
+
+  // The block of this grid's cells from `first` to `last` (inclusive, this grid's coordinates,
+  // within it); a periodic axis is kept whole (its wrapped indices need every cell).
+  SearchGrid sub_grid(const Vec<int, D>& first, const Vec<int, D>& last) const {
+    SearchGrid g = *this;
+    for (int a = 0; a < D; ++a) {
+      if (is_periodic(a)) continue;
+      if (!(0 <= first[a] && first[a] <= last[a] && last[a] < cells[a]))
+        throw Error("SearchGrid::sub_grid: cells " + std::to_string(first[a]) + " to " + std::to_string(last[a]) +
+                    " along axis " + std::to_string(a) + " are not within the grid's " + std::to_string(cells[a]));
+      g.first_cell[a] = first_cell[a] + first[a];
+      g.cells[a] = last[a] - first[a] + 1;
+    }
     return g;
   }
 
@@ -136,6 +166,7 @@ struct SearchGrid {
       g.axis_inverse_cell_size[a] = T(n) / length;
       g.periodic_axes |= 1u << a;
     }
+    g.whole_cells = g.cells;
     return g;
   }
 
@@ -147,28 +178,32 @@ struct SearchGrid {
     return total;
   }
 
-  // The cell of x, clamped into the grid, and whether x was outside the box or not finite
-  // (a NaN coordinate is placed in cell 0 along its axis).
+  // The cell of x, clamped into the grid (a sub-grid: into the whole grid, in the sub-grid's
+  // coordinates), and whether x was outside the box or not finite (a NaN coordinate is placed in
+  // cell 0 of the whole grid along its axis).
   UNISPH_HOST_DEVICE CellPlacement<D> place(const Vec<T, D>& x) const {
     CellPlacement<D> p{};
     for (int a = 0; a < D; ++a) {
       const T xa = x[a];
       if (!(xa == xa)) {
         p.status |= placement_non_finite;
-        p.cell[a] = 0;
+        p.cell[a] = -first_cell[a];
         continue;
       }
       if (xa < box.lower[a] || xa > box.upper[a]) p.status |= placement_out_of_box;
       const T t = uncontracted::mul(uncontracted::sub(xa, box.lower[a]), axis_inverse_cell_size[a]);
       // Compared as floating point before the conversion, which is undefined out of range.
-      p.cell[a] = t < T(0) ? 0 : (t < T(cells[a]) ? static_cast<int>(t) : cells[a] - 1);
+      p.cell[a] = (t < T(0) ? 0 : (t < T(whole_cells[a]) ? static_cast<int>(t) : whole_cells[a] - 1)) - first_cell[a];
     }
     return p;
   }
 
   // x along axis a in cell units from the lower face (the arithmetic of place()).
+  // A sub-grid's is the whole grid's less its first cell: exact (a multiple of the coordinate's
+  // last place, no larger than it), so both place x in the same cell.
   UNISPH_HOST_DEVICE T cell_coordinate(const Vec<T, D>& x, int a) const {
-    return uncontracted::mul(uncontracted::sub(x[a], box.lower[a]), axis_inverse_cell_size[a]);
+    return uncontracted::sub(uncontracted::mul(uncontracted::sub(x[a], box.lower[a]), axis_inverse_cell_size[a]),
+                             T(first_cell[a]));
   }
 
   UNISPH_HOST_DEVICE Index linear_index(const Vec<int, D>& c) const {

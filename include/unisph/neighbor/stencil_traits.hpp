@@ -60,7 +60,7 @@ struct StencilArrays {
 template <class T, int D>
 struct StencilCenter {
   const SearchGrid<T, D>* grid = nullptr;
-  Vec<int, D> cell{};  // the cell of x (clamped into the grid where x is outside the box)
+  Vec<int, D> cell{};  // the cell of x (clamped into the whole grid where x is outside the box)
   Vec<T, D> t{};       // x in cell units (trimming only)
   bool trim = false;
 
@@ -76,6 +76,10 @@ struct StencilCenter {
       if (lo > T(first)) first = static_cast<int>(lo);
       if (hi < T(last)) last = static_cast<int>(hi);
     }
+    // A sub-grid's stencil around a cell beyond it (SearchGrid::sub_grid): empty, at a place
+    // within the table.
+    if (first > grid->cells[a]) first = grid->cells[a];
+    if (last < first - 1) last = first - 1;
   }
   // The squared distance in cell units from t[a] to the cell interval [k, k + 1) (0 without trimming).
   UNISPH_HOST_DEVICE T gap_squared(int a, int k) const {
