@@ -23,7 +23,12 @@ export NCCL_NVLS_ENABLE=0
 sed -e 's/^\[time\]/[time]\ncells_per_cutoff = 1/' -e 's/^name = "dambreak_3d"/name = "dambreak_3d_size"/' \
   "$HERE/cases/dambreak_3d.toml" > "$W/size.toml"
 grep -q "^cells_per_cutoff = 1" "$W/size.toml" || { echo "size case not made"; exit 1; }
-timeout "${LIMIT:-540}" mpirun --allow-run-as-root --bind-to none -x NCCL_NVLS_ENABLE -np "$N" \
+# unisph's switches, where set, reach every rank (UNISPH_OWNED_VIEWS=0: the run without owned views).
+forward=()
+for v in UNISPH_OWNED_VIEWS UNISPH_HALO_OVERLAP UNISPH_TRANSPORT UNISPH_DECOMPOSITION; do
+  [ -n "${!v:-}" ] && forward+=(-x "$v")
+done
+timeout "${LIMIT:-540}" mpirun --allow-run-as-root --bind-to none -x NCCL_NVLS_ENABLE "${forward[@]}" -np "$N" \
   "$B/run" unisph run "$W/size.toml" --policy device --precision float --dx "$DX" --end-time "$END" \
   --no-snapshots --quiet --output "$W/run"
 cp "$W/run/run.log" "$W/run/observers.csv" "$OUT/"
