@@ -6,6 +6,10 @@
 //                         (CellLinkedList::order_within_cells_by_id: count -> keys -> radix
 //                         sort -> scan; in cell order, whose ids ascend here, the host skips
 //                         the sort)
+//   BM_CellListBuildByIdWithGhosts  the same list on a rank's particles: the owned ones in cell
+//                         order (ids ascending), a share of ghosts after them in no order (a
+//                         slab of the lattice shuffled); the build sorts only the ghosts' keys
+//                         and merges them (merge = 1, the default) or sorts every key (0)
 //   BM_StoredListBuild    the stored neighbour lists with their cached pair geometry (one direct
 //                         search filling fixed slots per particle; a second one where the
 //                         capacity grows, i.e. only at the first build of the Case)
@@ -242,6 +246,45 @@ void BM_CellListBuildById(benchmark::State& state) {
 }
 
 template <class P>
+void BM_CellListBuildByIdWithGhosts(benchmark::State& state) {
+  const P policy{};
+  if (unavailable<P>(state)) return;
+  const int side = side_for(Index(state.range(0)));
+  const Index n = Index(side) * side * side;
+  const Index ghosts = Index(state.range(1)) * n / 1000;
+  const Index owned = n - ghosts;
+  std::vector<std::uint64_t> owned_ids(owned);
+  std::iota(owned_ids.begin(), owned_ids.end(), std::uint64_t(0));
+  Body<T, D> body("Lattice", lattice_box(side), owned, ghosts, 0, SetShare{std::uint64_t(n), owned_ids});
+  // The lattice in cell order; its last `ghosts` particles (the top slab) shuffled as ghosts.
+  std::vector<Position> x = lattice(side, cell_order, 1);
+  std::vector<std::uint64_t> ids(n);
+  std::iota(ids.begin(), ids.end(), std::uint64_t(0));
+  std::vector<Index> tail(ghosts);
+  std::iota(tail.begin(), tail.end(), owned);
+  std::shuffle(tail.begin(), tail.end(), std::mt19937_64(7));
+  std::vector<Position> x2 = x;
+  for (Index k = 0; k < ghosts; ++k) {
+    x2[owned + k] = x[tail[k]];
+    ids[owned + k] = std::uint64_t(tail[k]);
+  }
+  body.positions().assign(x2);
+  body.particles().ids().assign(ids);
+  CellLinkedList<T, D> cells(body.positions(), body.domain(), cutoff, OutsideParticles::clamp, cell_size_for(1));
+  cells.order_within_cells_by_id(body.particles());
+  cells.sort_only_ghosts(state.range(2) != 0);
+  cells.build(policy);
+  fence(policy);
+  for (auto _ : state) {
+    cells.build(policy);
+    fence(policy);
+  }
+  report(state, n, 0, 0);
+  state.counters["ghosts"] = double(ghosts);
+  state.counters["in_cell_order"] = cells.report().in_cell_order;
+}
+
+template <class P>
 void BM_StoredListBuild(benchmark::State& state) {
   const P policy{};
   if (unavailable<P>(state) || too_large_for_host<P>(state)) return;
@@ -325,9 +368,21 @@ void device_sizes(benchmark::internal::Benchmark* b) {
   b->ArgNames({"n", "order", "split"})->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(0.2);
 }
 
+// Ghosts per 1000 particles: 50 and 150 (a rank's halo), each merged and sorted whole.
+template <class P>
+void ghost_sizes(benchmark::internal::Benchmark* b) {
+  for (int n : P::space == MemorySpace::device ? std::vector<int>{1000000, 4000000} : std::vector<int>{1000000})
+    for (int ghosts : {50, 150})
+      for (int merge : {1, 0}) b->Args({n, ghosts, merge});
+  b->ArgNames({"n", "ghosts_per_mille", "merge"})->Unit(benchmark::kMillisecond)->UseRealTime();
+  if (P::space == MemorySpace::device) b->MinTime(0.2);
+  else b->Iterations(3);
+}
+
 #define UNISPH_NEIGHBOR_BENCHMARKS(P, SIZES)                                                 \
   BENCHMARK_TEMPLATE(BM_CellListBuild, P)->Apply(SIZES);                                     \
   BENCHMARK_TEMPLATE(BM_CellListBuildById, P)->Apply(SIZES);                                 \
+  BENCHMARK_TEMPLATE(BM_CellListBuildByIdWithGhosts, P)->Apply(ghost_sizes<P>);              \
   BENCHMARK_TEMPLATE(BM_DensityPass, P, SearchMethod::direct)->Apply(SIZES);                 \
   BENCHMARK_TEMPLATE(BM_DensityPass, P, SearchMethod::stored)->Apply(SIZES);                 \
   BENCHMARK_TEMPLATE(BM_StoredListBuild, P)->Apply(SIZES);                                   \

@@ -30,6 +30,7 @@
 #include "unisph/core/box.hpp"
 #include "unisph/core/config.hpp"
 #include "unisph/core/error.hpp"
+#include "unisph/core/partition_point.hpp"
 #include "unisph/core/morton_key.hpp"
 #include "unisph/core/vector.hpp"
 #include "unisph/exec/algorithms.hpp"
@@ -123,13 +124,7 @@ struct DecompositionView {
     if (morton) {
       // The number of splits[1 .. ranks - 1] at or below the key (std::upper_bound).
       const std::uint64_t key = morton_key<D>(cell);
-      int lo = 1, hi = ranks;
-      while (lo < hi) {
-        const int mid = lo + (hi - lo) / 2;
-        if (splits[Index(mid)] <= key) lo = mid + 1;
-        else hi = mid;
-      }
-      return lo - 1;
+      return partition_point(1, ranks, [&](int r) { return splits[Index(r)] <= key; }) - 1;
     }
     for (int r = 0; r < ranks; ++r)
       if (boxes[Index(r)].contains(cell)) return r;

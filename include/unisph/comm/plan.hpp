@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "unisph/comm/communicator.hpp"
+#include "unisph/core/partition_point.hpp"
 #include "unisph/exec/algorithms.hpp"
 #include "unisph/exec/workspace.hpp"
 #include "unisph/memory/discrete_variable.hpp"
@@ -50,13 +51,7 @@ struct BinStarts {
   View<const std::uint32_t> keys;
   View<std::uint64_t> first;
   UNISPH_HOST_DEVICE void operator()(Index b) const {
-    Index lo = 0, hi = keys.size();
-    while (lo < hi) {
-      const Index mid = lo + (hi - lo) / 2;
-      if (keys[mid] < std::uint32_t(b)) lo = mid + 1;
-      else hi = mid;
-    }
-    first[b] = lo;
+    first[b] = partition_point(Index(0), keys.size(), [&](Index k) { return keys[k] < std::uint32_t(b); });
   }
 };
 }  // namespace plan_detail

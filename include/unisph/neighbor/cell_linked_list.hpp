@@ -63,6 +63,7 @@
 #include <limits>
 #include <string>
 
+#include "unisph/core/partition_point.hpp"
 #include "unisph/dynamics/kernel_context.hpp"
 #include "unisph/exec/algorithms.hpp"
 #include "unisph/exec/atomic.hpp"
@@ -230,12 +231,7 @@ struct CellRange {
 template <int D>
 struct JoinCellRanges {
   UNISPH_HOST_DEVICE CellRange<D> operator()(const CellRange<D>& a, const CellRange<D>& b) const {
-    CellRange<D> r;
-    for (int k = 0; k < D; ++k) {
-      r.first[k] = b.first[k] < a.first[k] ? b.first[k] : a.first[k];
-      r.last[k] = b.last[k] > a.last[k] ? b.last[k] : a.last[k];
-    }
-    return r;
+    return {unisph::min(a.first, b.first), unisph::max(a.last, b.last)};
   }
 };
 template <class T, int D>
@@ -295,6 +291,47 @@ struct IdKeys {
   IdKey key;
   View<std::uint64_t> keys;
   UNISPH_HOST_DEVICE void operator()(Index i) const { keys[i] = key(i); }
+};
+
+// Ordered by id, where the owned particles' keys ascend and only the ghosts' do not: the ghosts'
+// keys and indices, to be sorted apart (a few per cent of the particles) and merged with the
+// owned ones (PlaceOwned, PlaceGhosts) instead of a radix sort of every key.
+struct GhostKeys {
+  IdKey key;
+  Index owned;
+  View<std::uint64_t> keys;
+  View<std::uint32_t> index;
+  UNISPH_HOST_DEVICE void operator()(Index k) const {
+    keys[k] = key(owned + k);
+    index[k] = static_cast<std::uint32_t>(owned + k);
+  }
+};
+// The merge places each particle where the stable sort of all keys puts it: an owned particle
+// after the ghosts whose keys are smaller, a ghost after the owned particles whose keys are
+// smaller or equal (equal keys, ids outside the set's range, keep the order of the indices, and
+// every owned index is below every ghost's). Binary searches: no atomics, the same places on
+// every policy.
+struct PlaceOwned {
+  IdKey key;
+  View<const std::uint64_t> ghost_keys;  // sorted
+  View<std::uint32_t> particles;
+  UNISPH_HOST_DEVICE void operator()(Index i) const {
+    const std::uint64_t k = key(i);
+    const Index before = partition_point(Index(0), ghost_keys.size(), [&](Index g) { return ghost_keys[g] < k; });
+    particles[i + before] = static_cast<std::uint32_t>(i);
+  }
+};
+struct PlaceGhosts {
+  IdKey key;
+  Index owned;
+  View<const std::uint64_t> ghost_keys;  // sorted
+  View<const std::uint32_t> ghost_index;  // the ghosts' indices in that order
+  View<std::uint32_t> particles;
+  UNISPH_HOST_DEVICE void operator()(Index k) const {
+    const std::uint64_t g = ghost_keys[k];
+    const Index before = partition_point(Index(0), owned, [&](Index i) { return key(i) <= g; });
+    particles[k + before] = ghost_index[k];
+  }
 };
 
 // Ordered by id: the runs of consecutive particle indices in `particles` (see
@@ -407,6 +444,10 @@ class CellLinkedList {
   // Also give the view of `set`'s owned particles alone (see the header comment) from the next
   // build on; `set` is the one whose ids order the list (order_within_cells_by_id).
   void keep_owned_view(const ParticleSet& set) { owned_set_ = &set; }
+  // Ordered by id, where the owned particles' keys ascend: whether a build sorts only the
+  // ghosts' keys and merges them with the owned ones (the default) or sorts every key, as
+  // before the merge (the same list; kept to measure the one against the other).
+  void sort_only_ghosts(bool on) { sort_only_ghosts_ = on; }
   // Whether the last build gave the owned view: the list is ordered by id and the owned
   // particles were sorted by (cell, id) (known at the build's end: on the device, the build
   // waits for its order flags).
@@ -442,6 +483,9 @@ class CellLinkedList {
                   id_set_->name() + "', which holds " + std::to_string(id_set_->ids().size()) + " particles");
     const bool owned_view = by_id && owned_set_ != nullptr;
     const Index owned = owned_view ? std::min(owned_set_->owned_count(), n) : 0;
+    // Where the owned particles' keys ascend, a build sorts only the ghosts' (sort_by_id): any
+    // ascending first part would do; the owned view's flag needs its own set's.
+    const Index sorted_owned = owned_view ? owned : by_id ? std::min(id_set_->owned_count(), n) : 0;
     owned_ready_ = false;
     if (owned_view) owned_grid_ = owned_block(policy, owned);
     particles_.resize(n);
@@ -464,7 +508,7 @@ class CellLinkedList {
                                                         offsets, counters, reported_, report_box_, report_box_set_,
                                                         owned_offsets, owned, owned_grid_});
     if (by_id) {
-      if (sort_by_id(policy, scope, n, owned, counters)) find_runs(policy, scope, n);
+      if (sort_by_id(policy, scope, n, sorted_owned, counters)) find_runs(policy, scope, n);
       else run_end_.resize(0);
     } else if (n > 1) {
       particle_for(policy, n - 1, cell_list_detail::CheckCellOrder{bucket_of_.read(policy), counters});
@@ -587,12 +631,17 @@ class CellLinkedList {
   }
 
   // `particles` as the stable sort of the (bucket, id) keys (see the header comment);
-  // counters[3] set where the keys do not ascend with the index. Returns false where they do:
+  // counters[3] set where the keys do not ascend with the index, counters[4] where they do not
+  // among the set's owned particles (the first `owned`). Returns false where they do:
   // `particles` is then the identity, and no key is stored or sorted. One pass checks the order
   // and writes the identity, and the flag is read at once (on the device a wait for 8 bytes):
   // particles sorted by (cell, id) just before (ParticleSorter, SortOrder::cell_index_then_id)
   // with no ghost among them, a run on one GPU, thus skip the radix sort of 64-bit keys and the
   // runs' four index arrays (24 bytes per particle, and a few per cent of an H100's step).
+  // Where only the ghosts break the order (several ranks, the owned particles sorted by (cell,
+  // id) at the step's end), the ghosts' keys alone are sorted and merged with the owned ones by
+  // binary searches: the same `particles` as the sort of every key, for a radix sort of the
+  // ghosts (a few per cent of the keys) and its scratch.
   template <ExecutionPolicy P>
   bool sort_by_id(P policy, WorkspaceScope& scope, Index n, Index owned, View<unsigned long long> counters) {
     ParticleSet& set = *id_set_;
@@ -609,8 +658,19 @@ class CellLinkedList {
     View<std::uint32_t> particles = particles_.write(policy);
     particle_for(policy, n, cell_list_detail::IdentityWhereKeysAscend{key, particles, counters, owned});
     const View<const unsigned long long> flags = counters_.read(MemorySpace::host);
-    owned_ready_ = owned_set_ != nullptr && (n < 2 || flags[4] == 0);
+    const bool owned_ascend = n < 2 || flags[4] == 0;
+    owned_ready_ = owned_set_ != nullptr && owned_ascend;
     if (n < 2 || flags[3] == 0) return false;
+    if (sort_only_ghosts_ && owned_ascend && owned < n) {
+      const Index ghosts = n - owned;
+      const View<std::uint64_t> ghost_keys = scope.take(policy, keys_, ghosts);
+      const View<std::uint32_t> ghost_index = scope.take(policy, ghost_index_, ghosts);
+      particle_for(policy, ghosts, cell_list_detail::GhostKeys{key, owned, ghost_keys, ghost_index});
+      sort_pairs(policy, ghost_keys, ghost_index, 0, bucket_bits + id_bits);
+      particle_for(policy, owned, cell_list_detail::PlaceOwned{key, ghost_keys, particles});
+      particle_for(policy, ghosts, cell_list_detail::PlaceGhosts{key, owned, ghost_keys, ghost_index, particles});
+      return true;
+    }
     const View<std::uint64_t> keys = scope.take(policy, keys_, n);
     particle_for(policy, n, cell_list_detail::IdKeys{key, keys});
     sort_pairs(policy, keys, particles, 0, bucket_bits + id_bits);
@@ -628,6 +688,7 @@ class CellLinkedList {
   DiscreteVariable<CellPoint<T, D>> points_;
   DiscreteVariable<std::uint64_t> keys_;  // ordered by id: the sort keys (the host's storage; WorkspaceScope)
   DiscreteVariable<unsigned long long> changed_{"CellList.BucketChanged"};  // keep_if_cells_unchanged
+  DiscreteVariable<std::uint32_t> ghost_index_{"CellList.GhostOrder"};  // sort_by_id's merge (WorkspaceScope)
   DiscreteVariable<std::uint32_t> run_end_{"CellList.RunEnd"};  // ordered by id (find_runs)
   DiscreteVariable<std::uint32_t> run_starts_{"CellList.RunStarts"};  // these three: the host's storage (WorkspaceScope)
   DiscreteVariable<std::uint32_t> run_before_{"CellList.RunsBefore"};
@@ -637,6 +698,7 @@ class CellLinkedList {
   DiscreteVariable<std::uint32_t> owned_offsets_{"CellList.OwnedOffsets"};
   SearchGrid<T, D> owned_grid_{};  // the owned view's: the block of grid_'s cells holding them
   bool owned_ready_ = false;
+  bool sort_only_ghosts_ = true;
   bool store_points_ = false;
   Index built_count_ = 0;
   Index reported_ = std::numeric_limits<Index>::max();  // report_only_first()

@@ -323,6 +323,11 @@ class RankShare {
   // (about 9 bytes per particle in a 10^9-particle run on four GPUs), for 6 to 8 % on four GPUs.
   static bool owned_views() { return switch_from_environment("UNISPH_OWNED_VIEWS", true); }
 
+  // Whether the id-ordered cell lists sort only the ghosts' keys and merge them with the owned
+  // particles' (CellLinkedList::sort_only_ghosts): UNISPH_GHOST_MERGE=1 or 0 where set, else yes.
+  // 0 sorts every key, as before the merge: the same lists, kept to measure the two.
+  static bool ghost_merge() { return switch_from_environment("UNISPH_GHOST_MERGE", true); }
+
   // Particles sent to another rank by migrate() since the start, on this rank.
   std::uint64_t migrated() const { return migrated_; }
 
