@@ -257,7 +257,7 @@ void BM_CellListBuildByIdWithGhosts(benchmark::State& state) {
   std::iota(owned_ids.begin(), owned_ids.end(), std::uint64_t(0));
   Body<T, D> body("Lattice", lattice_box(side), owned, ghosts, 0, SetShare{std::uint64_t(n), owned_ids});
   // The lattice in cell order; its last `ghosts` particles (the top slab) shuffled as ghosts.
-  std::vector<Position> x = lattice(side, cell_order, 1);
+  const std::vector<Position>& x = lattice(side, cell_order, 1);
   std::vector<std::uint64_t> ids(n);
   std::iota(ids.begin(), ids.end(), std::uint64_t(0));
   std::vector<Index> tail(ghosts);

@@ -517,8 +517,9 @@ struct WeaklyCompressibleSolver<T, D>::State {
       share = std::make_unique<RankShare<T, D>>(*comm, domain, kernel.cutoff(), kernel.h, space, rebalance_fraction,
                                                 periodic);
       overlap_refreshes = share->overlap_refreshes();
-      fluid_cells.sort_only_ghosts(RankShare<T, D>::ghost_merge());
-      wall_cells.sort_only_ghosts(RankShare<T, D>::ghost_merge());
+      const bool ghost_merge = RankShare<T, D>::ghost_merge();
+      fluid_cells.sort_only_ghosts(ghost_merge);
+      wall_cells.sort_only_ghosts(ghost_merge);
       if (overlap_refreshes && RankShare<T, D>::owned_views()) {
         // The interior particles' passes search the owned particles alone (with_current_records).
         fluid_cells.keep_owned_view(fluid_body.particles());
