@@ -22,6 +22,12 @@ endfunction()
 # side gets -ffp-contract=off too, so that a build with -march=native (FMA) keeps those bits.
 function(unisph_uncontracted_kernel_sources)
   unisph_kernel_sources(${ARGN})
+  unisph_uncontracted_sources(${ARGN})
+endfunction()
+
+# unisph_uncontracted_sources([TARGET <target>] <source>...): the contraction flags alone, for
+# sources compiled as CUDA or as host C++ (the tests without their gpu instances).
+function(unisph_uncontracted_sources)
   cmake_parse_arguments(ARG "" "TARGET" "" ${ARGN})
   set(scope)
   if(ARG_TARGET)

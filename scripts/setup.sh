@@ -15,7 +15,7 @@ packages=(
   libcli11-dev                            # the command line
   libtomlplusplus-dev                     # case files
   libopenmpi-dev openmpi-bin              # MPI: the communication layer (include/unisph/comm/) and its tests
-  clang libclang-rt-14-dev                # libFuzzer targets
+  clang libclang-rt-14-dev                # the asan preset and the libFuzzer targets
   python3 python3-matplotlib python3-vtk9 # plots, reading output back with VTK (/usr/bin/python3)
 )
 

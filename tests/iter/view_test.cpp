@@ -317,19 +317,24 @@ TEST(HostViewRange, ComposesWithStdViews) {
   fill_small_container(container);
   const iter::Supercells<SmallFrame> host = container.read_write(MemorySpace::host);
   const HostParticles particles(host[5], RuntimeTuple{}, HostSlots(nullptr));
+  std::vector<int> expected;
+  for (Index f = host[5].header.first_frame; f != iter::no_frame; f = host.frames[f].next)
+    for (Index s = 0; s < host[5].fill_of(f); ++s) expected.push_back(host.frames[f].slots[s].value);
+  EXPECT_EQ(std::ranges::distance(particles), 7 * 4);  // 7 frames of 4 slots, 2 of them free
+  EXPECT_EQ(std::ranges::count_if(particles, [](auto slot) { return !slot; }), 2);
+#if defined(__clang__) && __clang_major__ < 16
+  // Clang before 16 cannot instantiate libstdc++ 12's filter_view (it does not see its
+  // constrained begin()); the GCC build, the default preset, checks the composition.
+#else
   auto values = particles | std::views::filter([](auto slot) { return bool(slot); }) |
                 std::views::transform([](auto slot) { return slot->value; });
   std::vector<int> got;
   for (int v : values) got.push_back(v);
-  std::vector<int> expected;
-  for (Index f = host[5].header.first_frame; f != iter::no_frame; f = host.frames[f].next)
-    for (Index s = 0; s < host[5].fill_of(f); ++s) expected.push_back(host.frames[f].slots[s].value);
   EXPECT_EQ(got, expected);
-  EXPECT_EQ(std::ranges::distance(particles), 7 * 4);  // 7 frames of 4 slots, 2 of them free
-  EXPECT_EQ(std::ranges::count_if(particles, [](auto slot) { return !slot; }), 2);
   std::vector<int> first_three;
   for (int v : values | std::views::take(3)) first_three.push_back(v);
   EXPECT_EQ(first_three, std::vector<int>(expected.begin(), expected.begin() + 3));
+#endif
   // Writing through the slots changes the container.
   for (auto slot : particles)
     if (slot) slot->value = -slot->value;

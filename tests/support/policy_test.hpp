@@ -12,7 +12,9 @@
 
 namespace unisph::testing {
 
-#if UNISPH_HAS_CUDA
+// The gpu instances exist where the source is compiled by nvcc against a CUDA-built library;
+// a test compiled as host C++ (UNISPH_GPU_TESTS=OFF, tests/CMakeLists.txt) has seq and par.
+#if UNISPH_HAS_CUDA && defined(__CUDACC__)
 using Policies = ::testing::Types<SequencedPolicy, ParallelPolicy, ParallelDevicePolicy>;
 #else
 using Policies = ::testing::Types<SequencedPolicy, ParallelPolicy>;
