@@ -175,6 +175,11 @@ struct CaseDescription {
   // advection step, the continuity equation within it: SPHinXsys' scheme) or "continuity" (the
   // continuity equation alone, as delta-SPH, DualSPHysics and TrixiParticles do).
   std::string density_method = "summation";
+  // The continuity equation's term of a wall dummy particle (density_relaxation.hpp): "mirror"
+  // (the fluid particle's normal velocity mirrored, 2 (v_i - v_w).n (n.e_iw)) or "kernel_sum"
+  // ((v_i - v_w).e_iw: the rate of the kernel sum over the wall particles that the density
+  // summation counts; docs/validation.md, "The continuity equation's wall term").
+  std::string wall_continuity = "mirror";
   // delta of delta-SPH's density-diffusion term (sph/density_diffusion.hpp); 0: none.
   double density_diffusion = 0;
   // A of the particle shifting dr = -A h^2 grad C once per advection step (sph/particle_shifting.hpp);

@@ -3,6 +3,8 @@
 //
 //   DensityRelaxation   drho_i/dt = rho_i sum_j [ (v_i - v_j).e_ij + k (p_i - p_j)/(rho0 c0) ] dW_ij V_j
 //                                 + rho_i sum_w [ 2 (v_i . n_w)(n_w . e_iw) + k (p_i - p_w)/(rho0 c0) ] dW_iw V_w
+//                       (fluid.wall_continuity = "kernel_sum": (v_i - v_w).e_iw in place of the
+//                       mirror's 2 (v_i . n_w)(n_w . e_iw), see WallContinuity)
 //                       i.e. 2 rho_i (v_i - u*) . grad W with the acoustic Riemann interface
 //                       velocity u* = (u_L + u_R)/2 + (p_L - p_R)/(2 rho0 c0), not limited (as in
 //                       SPHinXsys' Riemann pressure relaxation); the wall is a mirror (normal velocity
@@ -30,16 +32,30 @@
 
 namespace unisph::sph {
 
+// The velocity part of a wall dummy particle's term in the continuity equation.
+//   mirror       2 ((v_i - v_w).n_w)(n_w.e_iw): the wall as the mirror image of the fluid (the
+//                default). Twice the rate at which the fluid particle's kernel sum over the wall
+//                particles changes as it approaches or leaves the wall.
+//   kernel_sum   (v_i - v_w).e_iw: that rate itself, the time derivative of the wall particles'
+//                share of the summed density. Where the density is summed at every advection step
+//                (fluid.density_method = "summation"), the mirror compresses a particle that
+//                approaches the wall twice as fast within the step as the next summation
+//                does, and stretches one that leaves it twice as fast: on the dam break the wall
+//                pressure moved down the wall by an amount that grew with c0 times the advection
+//                step, while the wall's force did not change (docs/validation.md, "The
+//                continuity equation's wall term").
+enum class WallContinuity { mirror, kernel_sum };
+
 template <class T, int D>
 class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
  public:
   DensityRelaxation(FluidVariables<T, D>& fluid, WallVariables<T, D>& wall, InnerRelation<T, D>& inner,
                     ContactRelation<T, D>& contact, WendlandC2Kernel<T, D> kernel, AcousticRiemannSolver<T> riemann,
                     T wall_volume, bool riemann_dissipation, WallFreeBox<T, D> wall_free,
-                    DensityDiffusion<T, D> diffusion = {})
+                    DensityDiffusion<T, D> diffusion = {}, WallContinuity wall_continuity = WallContinuity::mirror)
       : fluid_(fluid), wall_(wall), inner_(inner), contact_(contact), kernel_(kernel), riemann_(riemann),
         wall_volume_(wall_volume), dissipation_(riemann_dissipation ? T(1) : T(0)), wall_free_(wall_free),
-        diffusion_(diffusion) {}
+        diffusion_(diffusion), wall_kernel_sum_(wall_continuity == WallContinuity::kernel_sum) {}
 
   struct Kernel {
     // As the pressure relaxation's (exec/occupancy_hint.hpp): 6 blocks of 256 (at most 42
@@ -59,6 +75,7 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
     WallFreeBox<T, D> wall_free;  // no wall neighbour inside
     bool moving_walls;
     DensityDiffusion<T, D> diffusion;
+    bool wall_kernel_sum;  // WallContinuity::kernel_sum
 
     // Static walls, no list walked by runs (one rank) and no diffusion term: compiled apart
     // (InteractionDynamics::exec).
@@ -99,7 +116,8 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
             a_rel -= wall_acceleration[w];
           }
           const T p_w = wall_dummy_pressure(p_i, rho_i, a_rel, pair.r_ij);
-          const T divergence = T(2) * dot(v_rel, n) * dot(n, e) + dissipation * riemann.velocity_dissipation(p_i, p_w);
+          const T approach = wall_kernel_sum ? dot(v_rel, e) : T(2) * dot(v_rel, n) * dot(n, e);
+          const T divergence = approach + dissipation * riemann.velocity_dissipation(p_i, p_w);
           rate += divergence * dW * wall_volume;
         });
       }
@@ -126,7 +144,8 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
             dissipation_,
             wall_free_,
             wall_.moving(),
-            diffusion_};
+            diffusion_,
+            wall_kernel_sum_};
   }
   Index size() const { return fluid_.size(); }
   // The box where no fluid particle has a wall neighbour (set again where walls move).
@@ -143,6 +162,7 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
   T dissipation_;
   WallFreeBox<T, D> wall_free_;
   DensityDiffusion<T, D> diffusion_;
+  bool wall_kernel_sum_;
 };
 
 template <class T, int D>
