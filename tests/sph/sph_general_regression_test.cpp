@@ -71,6 +71,12 @@ std::string replaced_all(std::string text, const std::string& from, const std::s
 
 Series run(const std::string& file, double until, const std::string& text = {}) {
   CaseDescription c = text.empty() ? read_case_file(std::string(UNISPH_CASES_DIR) + "/" + file) : parse_case(text, file);
+  // Both forms with the mirror's wall term in the continuity equation: the comparison is of the
+  // forms' particles, and with the mirror the two runs stay on one trajectory after the impact.
+  // With the dam-break cases' "kernel_sum" the window mean of one form alone moved by 2.2 % and
+  // its first crossing by 6 % with the output interval (docs/validation.md, "The continuity
+  // equation's wall term"), beyond this test's 0.5 %.
+  c.wall_continuity = "mirror";
   WeaklyCompressibleSolver<double, 2> solver(c, PolicyKind::par);
   Series s;
   const auto record = [&] {
