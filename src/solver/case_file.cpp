@@ -663,7 +663,7 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
   const toml::table& fluid = r.table(root, "fluid", true);
   r.only_keys(fluid, "fluid.", {"density", "sound_speed", "reference_velocity", "viscosity", "continuity_dissipation",
                           "free_surface_density", "density_method", "density_diffusion", "kernel_gradient_correction",
-                          "particle_shifting", "wall_continuity"});
+                          "particle_shifting", "wall_continuity", "wall_pressure"});
   c.density = r.positive(fluid, "fluid.", "density");
   c.sound_speed = r.positive(fluid, "fluid.", "sound_speed");
   c.reference_velocity = r.positive(fluid, "fluid.", "reference_velocity");
@@ -674,6 +674,7 @@ CaseDescription parse_case(std::string_view text, const std::string& source) {
   c.density_method = r.choice(fluid, "fluid.", "density_method", {"summation", "continuity"});
   c.density_diffusion = r.non_negative(fluid, "fluid.", "density_diffusion", 0.0);
   c.wall_continuity = r.choice(fluid, "fluid.", "wall_continuity", {"mirror", "kernel_sum"});
+  c.wall_pressure = r.choice(fluid, "fluid.", "wall_pressure", {"extrapolated", "averaged"});
   c.particle_shifting = r.non_negative(fluid, "fluid.", "particle_shifting", 0.0);
   // Larger shifts than Lind's and SPHinXsys' A = 0.4 were not tried; a particle's shift is capped
   // at 0.1 h anyway.

@@ -54,6 +54,7 @@ void write_case(io::CheckpointWriter& out, const CaseDescription& c) {
   out.string(c.density_method);
   out.f64(c.density_diffusion);
   out.string(c.wall_continuity);
+  out.string(c.wall_pressure);
   out.f64(c.gravity);
   out.u32(c.hydrostatic ? 1 : 0);
   out.f64(c.settling_time);
@@ -153,6 +154,7 @@ CaseDescription read_case(io::CheckpointReader& in) {
   c.density_method = in.string();
   c.density_diffusion = in.f64();
   c.wall_continuity = in.string();
+  c.wall_pressure = in.string();
   c.gravity = in.f64();
   c.hydrostatic = in.u32() != 0;
   c.settling_time = in.f64();
@@ -294,6 +296,7 @@ std::string physics_difference(const CaseDescription& a, const CaseDescription& 
   field("fluid.density_method", a.density_method, b.density_method);
   field("fluid.density_diffusion", a.density_diffusion, b.density_diffusion);
   field("fluid.wall_continuity", a.wall_continuity, b.wall_continuity);
+  field("fluid.wall_pressure", a.wall_pressure, b.wall_pressure);
   field("physics.gravity", a.gravity, b.gravity);
   field("initial.state is hydrostatic", a.hydrostatic, b.hydrostatic);
   field("time.sort_every", a.sort_every, b.sort_every);

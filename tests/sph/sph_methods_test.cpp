@@ -290,6 +290,8 @@ TEST(HostSphCaseFile, OneLineErrorsNameFileLineAndKey) {
        "key 'fluid.free_surface_density': must be \"reference\", \"carried\" or \"none\" (it is \"max\")"},
       {replaced(valid_case, "density = 1000.0", "density = 1000.0\nwall_continuity = \"ghost\""),
        "key 'fluid.wall_continuity': must be \"mirror\" or \"kernel_sum\" (it is \"ghost\")"},
+      {replaced(valid_case, "density = 1000.0", "density = 1000.0\nwall_pressure = \"mean\""),
+       "key 'fluid.wall_pressure': must be \"extrapolated\" or \"averaged\" (it is \"mean\")"},
       {replaced(valid_case, "end = 0.5", "end = 0.5\nneighbor_search = \"grid\""),
        "case.toml:17: key 'time.neighbor_search': must be \"automatic\", \"stored\" or \"direct\" (it is \"grid\")"},
       {replaced(valid_case, "end = 0.5", "end = 0.5\nlast_acoustic_step = \"whole\""),
@@ -489,29 +491,111 @@ TYPED_TEST(SphSolver, ContinuityDensityWithDiffusionAgreesWithSeq) {
   EXPECT_EQ(solver.observe().mass, mass0);
 }
 
-// fluid.wall_continuity = "kernel_sum": the continuity equation's wall term as the rate of the
-// kernel sum over the wall particles (density_relaxation.hpp, WallContinuity). Every policy gives
-// seq's run, and the run is not the mirror's (the option reaches the kernel).
-TYPED_TEST(SphSolver, WallContinuityAsKernelSumAgreesWithSeq) {
-  const PolicyKind kind = unisph::testing::kind_of<TypeParam>();
-  CaseDescription c = small_dam_break();
-  c.wall_continuity = "kernel_sum";
-  WeaklyCompressibleSolver<double, 2> reference(c, PolicyKind::seq);
-  WeaklyCompressibleSolver<double, 2> solver(c, kind);
-  WeaklyCompressibleSolver<double, 2> mirror(small_dam_break(), kind);
+// A method option: 200+ dam-break acoustic steps with it (`with`) on `kind` give seq's run within
+// 1e-9 of the tank size, differ from the run without it (`without`: the option reaches the
+// kernels), and keep the mass.
+void expect_option_agrees_with_seq(const CaseDescription& with, const CaseDescription& without, PolicyKind kind,
+                                   const std::string& label, const char* option, const char* other) {
+  WeaklyCompressibleSolver<double, 2> reference(with, PolicyKind::seq);
+  WeaklyCompressibleSolver<double, 2> solver(with, kind);
+  WeaklyCompressibleSolver<double, 2> unchanged(without, kind);
   const double mass0 = solver.observe().mass;
   run_acoustic_steps(reference, 200);
   run_acoustic_steps(solver, 200);
-  run_acoustic_steps(mirror, 200);
+  run_acoustic_steps(unchanged, 200);
   EXPECT_EQ(solver.acoustic_steps(), reference.acoustic_steps());
   const double relative = largest_position_difference(reference, solver);
-  const double from_mirror = largest_position_difference(mirror, solver);
-  std::printf("[ measured ] wall term as the kernel sum's rate, 200+ acoustic steps on %s: largest position difference "
-              "from seq %.3e of the tank size (bound 1e-9); from the mirror's run %.3e\n",
-              std::string(TypeParam::test_label).c_str(), relative, from_mirror);
+  const double from_other = largest_position_difference(unchanged, solver);
+  std::printf("[ measured ] %s, 200+ acoustic steps on %s: largest position difference from seq %.3e of the tank size "
+              "(bound 1e-9); from the %s run %.3e\n",
+              option, label.c_str(), relative, other, from_other);
   EXPECT_LE(relative, 1e-9);
-  EXPECT_GT(from_mirror, 1e-7) << "the option changes the run";
+  EXPECT_GT(from_other, 1e-7) << "the option changes the run";
   EXPECT_EQ(solver.observe().mass, mass0);
+}
+
+// fluid.wall_continuity = "kernel_sum": the continuity equation's wall term as the rate of the
+// kernel sum over the wall particles (density_relaxation.hpp, WallContinuity), against the mirror's.
+TYPED_TEST(SphSolver, WallContinuityAsKernelSumAgreesWithSeq) {
+  CaseDescription c = small_dam_break();
+  c.wall_continuity = "kernel_sum";
+  expect_option_agrees_with_seq(c, small_dam_break(), unisph::testing::kind_of<TypeParam>(),
+                                std::string(TypeParam::test_label), "wall term as the kernel sum's rate", "mirror's");
+}
+
+// fluid.wall_pressure = "averaged" (wall_pressure_average.hpp), with the method it is offered for
+// (the carried density, delta = 0.1, the kernel-sum wall term), against the extrapolated pressure.
+TYPED_TEST(SphSolver, AveragedWallPressureAgreesWithSeq) {
+  CaseDescription c = small_dam_break();
+  c.density_method = "continuity";
+  c.continuity_dissipation = false;
+  c.density_diffusion = 0.1;
+  c.wall_continuity = "kernel_sum";
+  CaseDescription extrapolated = c;
+  c.wall_pressure = "averaged";
+  expect_option_agrees_with_seq(c, extrapolated, unisph::testing::kind_of<TypeParam>(),
+                                std::string(TypeParam::test_label), "averaged wall pressure",
+                                "extrapolated pressure's");
+}
+
+// Each wall particle's averaged pressure against a brute-force Shepard average over every fluid
+// particle (1e-12 of rho0 g H), and, in a tank at rest, against the hydrostatic pressure at the
+// wall particle's own depth, which the average reproduces whatever the weights (each term is
+// p_f + rho_f g.(x_w - x_f) = rho0 g (H - y_w) + (rho_f - rho0) g (y_f - y_w); the last part is at
+// most g H / c0^2 = 1/400 of rho0 g H times 2h, hence the bound 1e-3 of rho0 g H): the floor's and
+// the side walls' particles below the free surface; 0 where no fluid is within the cutoff. Taken
+// before any step, from the initial hydrostatic state (the lattice's start-up moves it by more).
+TYPED_TEST(SphSolver, AveragedWallPressureIsTheShepardAverageAndHydrostaticAtRest) {
+  const PolicyKind kind = unisph::testing::kind_of<TypeParam>();
+  CaseDescription c = small_dam_break();
+  c.tank = {2.0, 1.5};
+  c.column = {2.0, 1.0};
+  c.hydrostatic = true;
+  c.density_method = "continuity";
+  c.continuity_dissipation = false;
+  c.wall_pressure = "averaged";
+  WeaklyCompressibleSolver<double, 2> solver(c, kind);
+  solver.pressure_relaxation_pass();  // the walls' pressures from the initial state (a step would move it)
+  auto& fluid = solver.fluid_body().particles();
+  auto& wall = solver.wall_body().particles();
+  const auto xf = fluid.template variable<Vec<double, 2>>("Position").to_vector();
+  const auto pf = fluid.template variable<double>("Pressure").to_vector();
+  const auto rf = fluid.template variable<double>("Density").to_vector();
+  const auto xw = wall.template variable<Vec<double, 2>>("Position").to_vector();
+  const auto pw = wall.template variable<double>("WallPressure").to_vector();
+  ASSERT_EQ(pw.size(), xw.size());
+  const WendlandC2Kernel<double, 2> kernel = WendlandC2Kernel<double, 2>::from_spacing(c.dx);
+  const Vec<double, 2> g{{0.0, -c.gravity}};
+  const double scale = c.density * c.gravity * c.column[1];
+  double worst_average = 0, worst_hydrostatic = 0;
+  std::size_t wet = 0, dry = 0;
+  for (std::size_t w = 0; w < xw.size(); ++w) {
+    double weighted = 0, weight = 0;
+    for (std::size_t f = 0; f < xf.size(); ++f) {
+      const double r = std::sqrt(squared_norm(Vec<double, 2>(xw[w] - xf[f])));
+      if (r >= kernel.cutoff()) continue;
+      const double W = kernel.value(r);
+      weighted += W * (pf[f] + rf[f] * dot(g, Vec<double, 2>(xw[w] - xf[f])));
+      weight += W;
+    }
+    const double expected = weight > 0 ? std::max(weighted / weight, 0.0) : 0.0;
+    worst_average = std::max(worst_average, std::abs(pw[w] - expected) / scale);
+    if (weight == 0) {
+      ++dry;
+    } else if (xw[w][1] < c.column[1] - kernel.cutoff()) {
+      ++wet;
+      worst_hydrostatic =
+          std::max(worst_hydrostatic, std::abs(pw[w] - c.density * c.gravity * (c.column[1] - xw[w][1])) / scale);
+    }
+  }
+  std::printf("[ measured ] averaged wall pressure on %s: %zu wall particles below the surface, %zu dry; "
+              "largest difference from the brute-force average %.2e (bound 1e-12), from the hydrostatic pressure "
+              "%.2e (bound 1e-3) of rho0 g H\n",
+              std::string(TypeParam::test_label).c_str(), wet, dry, worst_average, worst_hydrostatic);
+  EXPECT_GT(wet, 20u);
+  EXPECT_GT(dry, 20u);
+  EXPECT_LE(worst_average, 1e-12);
+  EXPECT_LE(worst_hydrostatic, 1e-3);
 }
 
 // The density-diffusion term (sph/density_diffusion.hpp) summed by brute force over a square

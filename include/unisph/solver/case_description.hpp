@@ -180,6 +180,11 @@ struct CaseDescription {
   // ((v_i - v_w).e_iw: the rate of the kernel sum over the wall particles that the density
   // summation counts; docs/validation.md, "The continuity equation's wall term").
   std::string wall_continuity = "mirror";
+  // The wall dummy particles' pressure (wall_dummy_pressure.hpp, wall_pressure_average.hpp):
+  // "extrapolated" (each pair extrapolates the fluid particle's own pressure hydrostatically to the
+  // wall particle, SPHinXsys' form) or "averaged" (each wall particle's own, a kernel average over
+  // its fluid neighbours: Adami et al. 2012, as TrixiParticles; one rank, no periodic axis).
+  std::string wall_pressure = "extrapolated";
   // delta of delta-SPH's density-diffusion term (sph/density_diffusion.hpp); 0: none.
   double density_diffusion = 0;
   // A of the particle shifting dr = -A h^2 grad C once per advection step (sph/particle_shifting.hpp);

@@ -31,8 +31,9 @@ namespace unisph::sph {
 // report.loads (u32) and report.moment_point (f64s) after report.pressure, and the [[gauge]]
 // list after the probes (u64 count; name, position, bottom, top, line)
 // 10: fluid.wall_continuity (a string after fluid.density_diffusion)
+// 11: fluid.wall_pressure (a string after fluid.wall_continuity)
 // (older versions are refused with one line).
-inline constexpr std::uint32_t solver_checkpoint_version = 10;
+inline constexpr std::uint32_t solver_checkpoint_version = 11;
 
 void write_case(io::CheckpointWriter& out, const CaseDescription& c);
 CaseDescription read_case(io::CheckpointReader& in);

@@ -31,6 +31,7 @@
 #include "unisph/solver/body_particles.hpp"
 #include "unisph/solver/obstacle_particles.hpp"
 #include "unisph/sph/pressure_relaxation.hpp"
+#include "unisph/sph/wall_pressure_average.hpp"
 #include "unisph/solver/rank_share.hpp"
 #include "unisph/solver/solver_checkpoint.hpp"
 #include "unisph/sph/moving_walls.hpp"
@@ -462,6 +463,16 @@ struct WeaklyCompressibleSolver<T, D>::State {
     }
     check_walls_along_periodic_axes(c, particles, domain, wall_groups, double(kernel.cutoff()));
     make_wall_motions(c);
+    if (c.wall_pressure == "averaged") {
+      // Each wall particle's pressure is averaged from the fluid particles around it; ranks and
+      // periodic images would need those pressures exchanged like the fluid's, which is not built.
+      if ((comm && comm->size() > 1) || !c.domain.periodic.empty())
+        throw Error("case '" + c.name + "': fluid.wall_pressure = \"averaged\" runs on one rank without periodic axes " +
+                    "(the walls' averaged pressures are not exchanged between ranks or periodic images)");
+      wall.pressure = &wall_body.particles().template add_variable<T>("WallPressure");
+      wall_pressure_average =
+          std::make_unique<WallPressureAverage<T, D>>(fluid, wall, fluid_cells, kernel, gravity_of(c));
+    }
     if (c.kernel_gradient_correction) {
       kernel_correction = &fluid_body.particles().template add_variable<Mat<T, D>>(kernel_correction_name.front());
       kernel_correction_matrices = std::make_unique<KernelCorrectionMatrices<T, D>>(
@@ -1114,6 +1125,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
       pressure_start.exec(p, Real(dt));
       for (;;) {
         place_walls(p, time + relaxed + 0.5 * dt);  // moving walls at the acoustic step's middle
+        if (wall_pressure_average) wall_pressure_average->exec(p);  // from this step's pressures
         with_current_records(
             p, [&] { relax_pressure(p, Real(dt)); },
             [&](View<const std::uint32_t> items, bool interior) { relax_pressure(p, Real(dt), items, interior); });
@@ -1448,6 +1460,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
     const double dt = last_acoustic_dt > 0 ? last_acoustic_dt : criteria.acoustic_step(0);
     visit_policy(policy, [&](auto p) {
       update_kernel_correction(p);
+      if (wall_pressure_average) wall_pressure_average->exec(p);
       relax_pressure(p, Real(dt));
       fence(p);
     });
@@ -1682,6 +1695,7 @@ struct WeaklyCompressibleSolver<T, D>::State {
   DensitySummationFreeSurface<T, D> density_summation;
   PriorAcceleration<T, D> prior_acceleration;
   PressureRelaxationStart<T, D> pressure_start;
+  std::unique_ptr<WallPressureAverage<T, D>> wall_pressure_average;  // fluid.wall_pressure = "averaged"
   WallFreeBox<T, D> wall_free;  // of the tank: fluid particles there have no wall neighbour
   PressureRelaxation<T, D> pressure_relaxation;
   // fluid.kernel_gradient_correction: each fluid particle's B (ghosts and images included), the

@@ -76,6 +76,7 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
     bool moving_walls;
     DensityDiffusion<T, D> diffusion;
     bool wall_kernel_sum;  // WallContinuity::kernel_sum
+    View<const T> wall_pressure;  // the walls' own (fluid.wall_pressure = "averaged"), else empty
 
     // Static walls, no list walked by runs (one rank) and no diffusion term: compiled apart
     // (InteractionDynamics::exec).
@@ -115,7 +116,7 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
             v_rel -= wall_velocity[w];
             a_rel -= wall_acceleration[w];
           }
-          const T p_w = wall_dummy_pressure(p_i, rho_i, a_rel, pair.r_ij);
+          const T p_w = wall_pressure_of(wall_pressure, w, p_i, rho_i, a_rel, pair.r_ij);
           const T approach = wall_kernel_sum ? dot(v_rel, e) : T(2) * dot(v_rel, n) * dot(n, e);
           const T divergence = approach + dissipation * riemann.velocity_dissipation(p_i, p_w);
           rate += divergence * dW * wall_volume;
@@ -145,7 +146,8 @@ class DensityRelaxation : public InteractionDynamics<DensityRelaxation<T, D>> {
             wall_free_,
             wall_.moving(),
             diffusion_,
-            wall_kernel_sum_};
+            wall_kernel_sum_,
+            wall_.pressure_view(c)};
   }
   Index size() const { return fluid_.size(); }
   // The box where no fluid particle has a wall neighbour (set again where walls move).

@@ -73,6 +73,10 @@ struct WallVariables {
   // every wall is at rest, and the kernels then take v_w = a_w = 0.
   DiscreteVariable<Vector>* velocity = nullptr;
   DiscreteVariable<Vector>* acceleration = nullptr;
+  // fluid.wall_pressure = "averaged" only (wall_pressure_average.hpp): each wall particle's
+  // pressure, averaged from its fluid neighbours; null where each pair extrapolates the fluid
+  // particle's own (wall_dummy_pressure.hpp).
+  DiscreteVariable<T>* pressure = nullptr;
 
   explicit WallVariables(Body<T, D>& body)
       : particles(body.particles()),
@@ -88,6 +92,11 @@ struct WallVariables {
   template <class Context>
   View<const Vector> acceleration_view(Context& c) const {
     return acceleration ? c.read(*acceleration) : View<const Vector>{};
+  }
+  // The walls' own pressures for a kernel (empty: extrapolated per pair).
+  template <class Context>
+  View<const T> pressure_view(Context& c) const {
+    return pressure ? c.read(*pressure) : View<const T>{};
   }
 };
 

@@ -75,16 +75,16 @@ class PressureRelaxationStart : public UpdateDynamics<PressureRelaxationStart<T,
 
 // The momentum equation's term of one wall dummy particle w for fluid particle i,
 // 2 p*_iw dW_iw V_w e_iw (a_i gets -1/rho_i times the sum over fluid and wall neighbours), with
-// the dummy pressure p_w of wall_dummy_pressure.hpp and the mirrored normal velocity. One
-// function for PressureRelaxation and the wall loads (wall_load.hpp), so they cannot drift apart.
-// v_i and a0_i are relative to the wall (moving_walls.hpp): v_i - v_w and a0_i - a_w.
+// the wall pressure p_w of wall_pressure_of() (wall_dummy_pressure.hpp) and the mirrored normal
+// velocity. One function for PressureRelaxation and the wall loads (wall_load.hpp), so they cannot
+// drift apart. v_i and a0_i are relative to the wall (moving_walls.hpp): v_i - v_w and a0_i - a_w.
 template <class T, int D>
-UNISPH_HOST_DEVICE inline Vec<T, D> wall_pressure_term(const AcousticRiemannSolver<T>& riemann, T p_i, T rho_i,
-                                                       const Vec<T, D>& v_i, const Vec<T, D>& a0_i,
-                                                       const Vec<T, D>& n_w, const NeighborPair<T, D>& pair, T dW,
-                                                       T wall_volume) {
+UNISPH_HOST_DEVICE inline Vec<T, D> wall_pressure_term(const AcousticRiemannSolver<T>& riemann, View<const T> wall_pressure,
+                                                       Index w, T p_i, T rho_i, const Vec<T, D>& v_i,
+                                                       const Vec<T, D>& a0_i, const Vec<T, D>& n_w,
+                                                       const NeighborPair<T, D>& pair, T dW, T wall_volume) {
   const Vec<T, D>& e = pair.direction();
-  const T p_w = wall_dummy_pressure(p_i, rho_i, a0_i, pair.r_ij);
+  const T p_w = wall_pressure_of(wall_pressure, w, p_i, rho_i, a0_i, pair.r_ij);
   const T jump = -T(2) * dot(v_i, n_w);
   return e * (riemann.twice_interface_pressure(p_i, p_w, jump) * dW * wall_volume);
 }
@@ -116,6 +116,7 @@ class PressureRelaxation : public InteractionDynamics<PressureRelaxation<T, D>> 
     T wall_volume;
     WallFreeBox<T, D> wall_free;  // no wall neighbour inside
     bool moving_walls;
+    View<const T> wall_pressure;  // the walls' own (fluid.wall_pressure = "averaged"), else empty
 
     // Static walls and no list walked by runs (one rank): compiled apart (InteractionDynamics::exec).
     bool common_case() const {
@@ -164,7 +165,8 @@ class PressureRelaxation : public InteractionDynamics<PressureRelaxation<T, D>> 
           v_rel -= wall_velocity[w];
           a_rel -= wall_acceleration[w];
         }
-        sum += wall_pressure_term(riemann, p_i, rho_i, v_rel, a_rel, wall_normal[w], pair, dW, wall_volume);
+        sum += wall_pressure_term(riemann, wall_pressure, w, p_i, rho_i, v_rel, a_rel, wall_normal[w], pair, dW,
+                                  wall_volume);
       });
     }
   };
@@ -186,7 +188,8 @@ class PressureRelaxation : public InteractionDynamics<PressureRelaxation<T, D>> 
             riemann_,
             wall_volume_,
             wall_free_,
-            wall_.moving()};
+            wall_.moving(),
+            wall_.pressure_view(c)};
   }
   Index size() const { return fluid_.size(); }
   // The box where no fluid particle has a wall neighbour (set again where walls move).

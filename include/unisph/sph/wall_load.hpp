@@ -91,6 +91,7 @@ class WallLoadTerms : public InteractionDynamics<WallLoadTerms<T, D>> {
     Vec<T, D> moment_point;
     bool moving_walls;
     View<const Mat<T, D>> correction;  // B_i of the corrected pressure force (else empty)
+    View<const T> wall_pressure;       // the walls' own (fluid.wall_pressure = "averaged"), else empty
 
     UNISPH_HOST_DEVICE void interaction(Index i, Real) const {
       const Index bodies = body_end.size();
@@ -104,9 +105,10 @@ class WallLoadTerms : public InteractionDynamics<WallLoadTerms<T, D>> {
       // Per body, the sum of the terms PressureRelaxation adds for the same neighbours.
       contact.for_each_weighted_neighbor(i, derivative, [&](Index w, const NeighborPair<T, D>& pair, T dW) {
         const Vec<T, D> term =
-            moving_walls ? wall_pressure_term(riemann, p_i, rho_i, Vec<T, D>(v_i - wall_velocity[w]),
+            moving_walls ? wall_pressure_term(riemann, wall_pressure, w, p_i, rho_i, Vec<T, D>(v_i - wall_velocity[w]),
                                               Vec<T, D>(a0 - wall_acceleration[w]), wall_normal[w], pair, dW, wall_volume)
-                         : wall_pressure_term(riemann, p_i, rho_i, v_i, a0, wall_normal[w], pair, dW, wall_volume);
+                         : wall_pressure_term(riemann, wall_pressure, w, p_i, rho_i, v_i, a0, wall_normal[w], pair, dW,
+                                              wall_volume);
         const std::uint64_t id = wall_id[w];
         Index b = 0;
         while (b + 1 < bodies && id >= body_end[b]) ++b;
@@ -146,7 +148,8 @@ class WallLoadTerms : public InteractionDynamics<WallLoadTerms<T, D>> {
             wall_volume_,
             moment_point_,
             wall_.moving(),
-            correction_ ? c.read(*correction_) : View<const Mat<T, D>>{}};
+            correction_ ? c.read(*correction_) : View<const Mat<T, D>>{},
+            wall_.pressure_view(c)};
   }
   Index size() const { return fluid_.size(); }
   void use_correction(DiscreteVariable<Mat<T, D>>* correction) { correction_ = correction; }
