@@ -382,6 +382,19 @@ TEST(HostPeriodic, BrokenCasesAreRefusedWithOneLine) {
       EXPECT_EQ(what.rfind(name + ":", 0), 0u) << what;
     }
   }
+  // Each wall particle's averaged pressure (fluid.wall_pressure = "averaged") is not carried
+  // across periodic faces: the solver refuses the case with one line.
+  try {
+    WeaklyCompressibleSolver<double, 2> solver(
+        parse_case(replaced(channel, "[fluid]\n", "[fluid]\nwall_pressure = \"averaged\"\n"), "poiseuille_2d.toml"),
+        PolicyKind::seq);
+    ADD_FAILURE() << "fluid.wall_pressure = \"averaged\" accepted with periodic axes";
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("fluid.wall_pressure = \"averaged\" runs on one rank without periodic axes"), std::string::npos)
+        << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+  }
 }
 
 // ---- validation (DISABLED_: run by the `validation` ctest entries with --gtest_also_run_disabled_tests)
