@@ -394,6 +394,7 @@ TEST(HostPeriodic, BrokenCasesAreRefusedWithOneLine) {
     EXPECT_NE(what.find("fluid.wall_pressure = \"averaged\" runs on one rank without periodic axes"), std::string::npos)
         << what;
     EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+    EXPECT_EQ(what.rfind("poiseuille_2d.toml:", 0), 0u) << what;  // the file and the line of domain.periodic
   }
 }
 

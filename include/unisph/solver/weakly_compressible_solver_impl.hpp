@@ -466,9 +466,12 @@ struct WeaklyCompressibleSolver<T, D>::State {
     if (c.wall_pressure == "averaged") {
       // Each wall particle's pressure is averaged from the fluid particles around it; ranks and
       // periodic images would need those pressures exchanged like the fluid's, which is not built.
-      if ((comm && comm->size() > 1) || !c.domain.periodic.empty())
-        throw Error("case '" + c.name + "': fluid.wall_pressure = \"averaged\" runs on one rank without periodic axes " +
-                    "(the walls' averaged pressures are not exchanged between ranks or periodic images)");
+      if (!c.domain.periodic.empty())
+        throw CaseFileError(periodic_where(c) + "fluid.wall_pressure = \"averaged\" runs on one rank without periodic " +
+                            "axes (the walls' averaged pressures are not carried across periodic faces)");
+      if (comm && comm->size() > 1)
+        throw CaseFileError(c.source + ": key 'fluid.wall_pressure': \"averaged\" runs on one rank without periodic " +
+                            "axes (the walls' averaged pressures are not exchanged between ranks)");
       wall.pressure = &wall_body.particles().template add_variable<T>("WallPressure");
       wall_pressure_average =
           std::make_unique<WallPressureAverage<T, D>>(fluid, wall, fluid_cells, kernel, gravity_of(c));
